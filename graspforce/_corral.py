@@ -1,0 +1,94 @@
+"""The subproblem shared by GJK and ZC: the point of a small set's affine-convex hull (GJK) or
+convex cone (ZC) closest to a target, with the minimal subset V-hat_k that represents it.
+
+An active-set method on the weights (Wolfe's minimum-norm-point minor cycle for the hull,
+Lawson-Hanson for the cone): solve the unconstrained least-squares problem on the current subset;
+if a weight is not positive, step back to the boundary and drop that point. Unlike Johnson's
+recursion it is exact in any dimension and never enumerates sub-simplices.
+"""
+import numpy as np
+from numba import njit
+
+from ._linalg import lstsq
+
+
+@njit(cache=True)
+def drop_point(P, Wt, lam, k, j):
+    """Remove row j of the simplex (points, witnesses, weights); returns the new size."""
+    for i in range(j, k - 1):
+        P[i, :] = P[i + 1, :]
+        Wt[i, :] = Wt[i + 1, :]
+        lam[i] = lam[i + 1]
+    return k - 1
+
+
+@njit(cache=True)
+def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x):
+    """Reduce the simplex P[:k] (the last row just added, weight 0) to the minimal subset whose
+    hull (affine=True: convex combinations) or cone (affine=False: nonnegative combinations of
+    P_i - shift) holds the point closest to `target`. Writes the positive weights to lam[:k].
+
+    Returns (k, newest_kept): newest_kept is False when the new point brought no improvement or
+    was numerically dependent on the others, which the callers read as "no progress".
+    """
+    n = P.shape[1]
+    newest = k - 1
+    while k > 0:
+        if affine:
+            q = k - 1
+            for i in range(n):
+                rhs[i] = target[i] - P[0, i]
+                for j in range(1, k):
+                    D[i, j - 1] = P[j, i] - P[0, i]
+        else:
+            q = k
+            for i in range(n):
+                rhs[i] = target[i]
+                for j in range(k):
+                    D[i, j] = P[j, i] - shift[i]
+        if not lstsq(D, n, q, rhs, x[1:] if affine else x, work, wrhs):
+            if newest < 0:
+                return k, False
+            k = drop_point(P, Wt, lam, k, newest)
+            newest = -1
+            continue
+        if affine:
+            s = 1.0
+            for j in range(1, k):
+                s -= x[j]
+            x[0] = s
+        theta = 1.0
+        arg = -1
+        for j in range(k):
+            if x[j] <= 0.0:
+                den = lam[j] - x[j]
+                th = lam[j] / den if den > 0.0 else 0.0
+                if th < theta or arg < 0:
+                    theta = th
+                    arg = j
+        if arg < 0:
+            for j in range(k):
+                lam[j] = x[j]
+            return k, newest >= 0
+        for j in range(k):
+            lam[j] += theta * (x[j] - lam[j])
+        lam[arg] = 0.0
+        j = k - 1
+        while j >= 0:
+            if lam[j] <= 0.0:
+                k = drop_point(P, Wt, lam, k, j)
+                if j == newest:
+                    newest = -1
+                elif j < newest:
+                    newest -= 1
+            j -= 1
+    return k, False
+
+
+@njit(cache=True)
+def combine(P, lam, k, out):
+    """out = sum_i lam_i P_i."""
+    out[:] = 0.0
+    for j in range(k):
+        for i in range(P.shape[1]):
+            out[i] += lam[j] * P[j, i]

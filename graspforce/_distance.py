@@ -1,0 +1,136 @@
+"""Compiled distance algorithms of section 2: GJK (point to set) and ZC (point to convex cone).
+
+Both keep a simplex as rows of P (points of A), Wt (their witnesses) and lam (weights), so a
+caller can warm-start them and read Z_A(r) and its witnesses off the final rows.
+"""
+import numpy as np
+from numba import njit
+
+from ._corral import combine, corral
+from ._kernel import support
+
+CONVERGED = 0   # GJK: h_A(n) - n^T v within tolerance;  ZC: h_{A - shift}(n) within tolerance
+INSIDE = 1      # the target is in CH(V) (GJK) or in CO(V - shift) (ZC): distance zero
+STALLED = 2     # the new support point brought no decrease: the answer is exact to rounding
+MAX_ITER = 3
+
+
+@njit(cache=True)
+def scratch(n):
+    """Work arrays of the active-set subproblem."""
+    return (np.empty((n, n + 1)), np.empty((n, n + 1)), np.empty(n), np.empty(n),
+            np.empty(n + 2))
+
+
+@njit(cache=True)
+def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_iter, nvec, v,
+        point, wit):
+    """GJK (section 2.2): d_A(b) and v_A(b) from the simplex P[:k] (k = 0: cold start).
+
+    Stops when h_A(n_k) - n_k^T v_k <= eps_abs + eps_rel * ref, ref = |n_k^T v_k| (the offset of
+    the hyperplane H(n_k, v_k), as the ray shooters need) or d (relative distance error).
+    Returns (status, k, d, h_A(n_k), iterations, support_calls); n_k in nvec, v_k in v.
+    """
+    n = b.shape[0]
+    D, work, rhs, wrhs, x = scratch(n)
+    calls = 0
+    if k == 0:
+        for i in range(n):
+            nvec[i] = b[i]
+        if np.sqrt(np.dot(b, b)) == 0.0:
+            nvec[0] = 1.0
+        support(ints, floats, nvec, point, wit)
+        calls += 1
+        P[0, :] = point
+        Wt[0, :] = wit
+        lam[0] = 1.0
+        k = 1
+    else:
+        k, _ = corral(P, Wt, lam, k, b, b, True, D, work, rhs, wrhs, x)
+    tiny = 1e-14 * (np.sqrt(np.dot(b, b)) + np.sqrt(np.dot(P[0], P[0]))) + 1e-300
+    d = np.inf
+    h = 0.0
+    for it in range(max_iter):
+        combine(P, lam, k, v)
+        d = 0.0
+        for i in range(n):
+            nvec[i] = b[i] - v[i]
+            d += nvec[i] * nvec[i]
+        d = np.sqrt(d)
+        if d <= tiny or k == n + 1:
+            # n + 1 affinely independent points: b is reproduced exactly, up to rounding
+            return INSIDE, k, 0.0, h, it, calls
+        for i in range(n):
+            nvec[i] /= d
+        h = support(ints, floats, nvec, point, wit)
+        calls += 1
+        offset = np.dot(nvec, v)
+        ref = abs(offset) if rel_to_offset else d
+        if h - offset <= eps_abs + eps_rel * ref:
+            return CONVERGED, k, d, h, it + 1, calls
+        P[k, :] = point
+        Wt[k, :] = wit
+        lam[k] = 0.0
+        k, kept = corral(P, Wt, lam, k + 1, b, b, True, D, work, rhs, wrhs, x)
+        if not kept:
+            return STALLED, k, d, h, it + 1, calls
+    return MAX_ITER, k, d, h, max_iter, calls
+
+
+@njit(cache=True)
+def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, nvec, v, point,
+       wit):
+    """ZC (section 2.3): distance from `target` to CO(A - shift) with generators P[:k] - shift.
+
+    Stops (CONVERGED) when h_{A-shift}(n_k) <= eps_abs + eps_rel * n_k^T shift; INSIDE when the
+    target is a positive combination lam[:k] of P[:k] - shift. Returns (status, k, d,
+    h_{A-shift}(n_k), iterations, support_calls); n_k in nvec, v_CO in v.
+    """
+    n = target.shape[0]
+    D, work, rhs, wrhs, x = scratch(n)
+    calls = 0
+    tnorm = np.sqrt(np.dot(target, target))
+    if k == 0:
+        h = support(ints, floats, target, point, wit) - np.dot(target, shift)
+        calls += 1
+        if h <= 0.0:
+            # the hyperplane through `shift` with normal `target` already supports A
+            for i in range(n):
+                nvec[i] = target[i] / tnorm
+                v[i] = 0.0
+            return CONVERGED, 0, tnorm, h / tnorm, 0, calls
+        P[0, :] = point
+        Wt[0, :] = wit
+        lam[0] = 0.0
+        k = 1
+    else:
+        lam[:k] = 0.0
+    k, _ = corral(P, Wt, lam, k, target, shift, False, D, work, rhs, wrhs, x)
+    h = 0.0
+    d = tnorm
+    for it in range(max_iter):
+        v[:] = 0.0
+        for j in range(k):
+            for i in range(n):
+                v[i] += lam[j] * (P[j, i] - shift[i])
+        d = 0.0
+        for i in range(n):
+            nvec[i] = target[i] - v[i]
+            d += nvec[i] * nvec[i]
+        d = np.sqrt(d)
+        if d <= 1e-14 * tnorm or k == n:
+            # n linearly independent generators span R^n: the residual is rounding only
+            return INSIDE, k, 0.0, h, it, calls
+        for i in range(n):
+            nvec[i] /= d
+        h = support(ints, floats, nvec, point, wit) - np.dot(nvec, shift)
+        calls += 1
+        if h <= eps_abs + eps_rel * np.dot(nvec, shift):
+            return CONVERGED, k, d, h, it + 1, calls
+        P[k, :] = point
+        Wt[k, :] = wit
+        lam[k] = 0.0
+        k, kept = corral(P, Wt, lam, k + 1, target, shift, False, D, work, rhs, wrhs, x)
+        if not kept:
+            return STALLED, k, d, h, it + 1, calls
+    return MAX_ITER, k, d, h, max_iter, calls

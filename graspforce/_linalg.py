@@ -1,0 +1,144 @@
+"""Small dense solvers for the jitted algorithms (n <= ~16, no allocation in the hot loop).
+
+Householder QR least squares (conditioning of the data, not of its square, which the 1e-9
+accuracy goal needs) and LU with partial pivoting for the square facet systems of IE.
+"""
+import numpy as np
+from numba import njit
+
+RANK_TOL = 1e-12
+
+
+@njit(cache=True)
+def lstsq(D, n, q, rhs, x, work, wrhs):
+    """x[:q] = argmin ||D[:n, :q] x - rhs[:n]||. False when D is (numerically) rank deficient.
+
+    `work` (n, q) and `wrhs` (n) are scratch; D and rhs are left untouched.
+    """
+    for i in range(n):
+        wrhs[i] = rhs[i]
+        for j in range(q):
+            work[i, j] = D[i, j]
+    scale = 0.0
+    for j in range(q):
+        s = 0.0
+        for i in range(n):
+            s += work[i, j] * work[i, j]
+        scale = max(scale, np.sqrt(s))
+    if scale == 0.0:
+        return q == 0
+    for j in range(q):
+        # Householder reflection zeroing work[j+1:, j]
+        s = 0.0
+        for i in range(j, n):
+            s += work[i, j] * work[i, j]
+        alpha = np.sqrt(s)
+        if alpha <= RANK_TOL * scale:
+            return False
+        if work[j, j] > 0.0:
+            alpha = -alpha
+        v0 = work[j, j] - alpha
+        vnorm2 = s - work[j, j] * work[j, j] + v0 * v0
+        work[j, j] = v0
+        if vnorm2 > 0.0:
+            for c in range(j + 1, q):
+                d = 0.0
+                for i in range(j, n):
+                    d += work[i, j] * work[i, c]
+                f = 2.0 * d / vnorm2
+                for i in range(j, n):
+                    work[i, c] -= f * work[i, j]
+            d = 0.0
+            for i in range(j, n):
+                d += work[i, j] * wrhs[i]
+            f = 2.0 * d / vnorm2
+            for i in range(j, n):
+                wrhs[i] -= f * work[i, j]
+        work[j, j] = alpha
+    for j in range(q - 1, -1, -1):
+        s = wrhs[j]
+        for c in range(j + 1, q):
+            s -= work[j, c] * x[c]
+        x[j] = s / work[j, j]
+    return True
+
+
+@njit(cache=True)
+def lu_factor(M, n, lu, piv):
+    """LU with partial pivoting of M[:n, :n] into lu; False when singular to working precision."""
+    scale = 0.0
+    for i in range(n):
+        for j in range(n):
+            lu[i, j] = M[i, j]
+            scale = max(scale, abs(M[i, j]))
+    if scale == 0.0:
+        return False
+    for k in range(n):
+        p = k
+        best = abs(lu[k, k])
+        for i in range(k + 1, n):
+            if abs(lu[i, k]) > best:
+                best = abs(lu[i, k])
+                p = i
+        piv[k] = p
+        if best <= 1e-14 * scale:
+            return False
+        if p != k:
+            for j in range(n):
+                tmp = lu[k, j]
+                lu[k, j] = lu[p, j]
+                lu[p, j] = tmp
+        inv = 1.0 / lu[k, k]
+        for i in range(k + 1, n):
+            lu[i, k] *= inv
+            f = lu[i, k]
+            if f != 0.0:
+                for j in range(k + 1, n):
+                    lu[i, j] -= f * lu[k, j]
+    return True
+
+
+@njit(cache=True)
+def lu_solve(lu, piv, n, b, x):
+    """Solve M x = b from lu_factor(M)."""
+    for i in range(n):
+        x[i] = b[i]
+    for k in range(n):
+        p = piv[k]
+        if p != k:
+            tmp = x[k]
+            x[k] = x[p]
+            x[p] = tmp
+    for i in range(n):
+        s = x[i]
+        for j in range(i):
+            s -= lu[i, j] * x[j]
+        x[i] = s
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for j in range(i + 1, n):
+            s -= lu[i, j] * x[j]
+        x[i] = s / lu[i, i]
+
+
+@njit(cache=True)
+def lu_solve_t(lu, piv, n, b, x):
+    """Solve M^T x = b from lu_factor(M)."""
+    for i in range(n):
+        x[i] = b[i]
+    for i in range(n):
+        s = x[i]
+        for j in range(i):
+            s -= lu[j, i] * x[j]
+        x[i] = s / lu[i, i]
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for j in range(i + 1, n):
+            s -= lu[j, i] * x[j]
+        x[i] = s
+    for k in range(n - 1, -1, -1):
+        p = piv[k]
+        if p != k:
+            tmp = x[k]
+            x[k] = x[p]
+            x[p] = tmp

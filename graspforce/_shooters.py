@@ -1,0 +1,376 @@
+"""The compiled ray-shooting procedures of section 3.
+
+Every procedure returns the same tuple, packed by `_result`:
+    (status, t, t_upper, h_n, iterations, support_calls, normal, V, weights, W)
+with z = t r a convex combination `weights` of the rows of V (points of A, witnesses in W), and
+the hyperplane {x : normal^T x = h_n} supporting A (h_n = h_A(normal)) crossing the ray at
+t_upper r. On a miss, normal separates: h_A(normal) < 0 < normal^T r.
+
+Tolerance: every stopping rule is relative, (h_A(n) - n^T z) <= eps * n^T z, i.e.
+(t_upper - t) / t <= eps, so eps bounds the relative error in t whatever the units of A
+(../shared/paper/NOTES.md item 5).
+"""
+import numpy as np
+from numba import njit
+
+from ._corral import drop_point
+from ._distance import CONVERGED, INSIDE, MAX_ITER, STALLED, gjk, scratch, zc
+from ._kernel import support
+from ._linalg import lstsq, lu_factor, lu_solve, lu_solve_t
+
+HIT = 0
+MISS = 1
+LIMIT = 2
+
+GJK_BASED = 0
+IE = 1
+ZC_BASED = 2
+BI_GJK = 3
+ZC_IE = 4
+
+
+@njit(cache=True)
+def _result(status, t, t_up, h_n, iters, calls, normal, P, lam, Wt, k):
+    return (status, t, t_up, h_n, iters, calls, normal.copy(), P[:k].copy(), lam[:k].copy(),
+            Wt[:k].copy())
+
+
+@njit(cache=True)
+def _keep(P, Wt, lam, k, Pz, Wz, lz):
+    """Save the simplex holding the current point on the ray: it becomes Z_A(r) at the end."""
+    Pz[:k] = P[:k]
+    Wz[:k] = Wt[:k]
+    lz[:k] = lam[:k]
+    return k
+
+
+@njit(cache=True)
+def _miss(ints, floats, r, ws, iters, calls, max_iter):
+    """A miss with its certificate: ZC from the origin finds n with h_A(n) < 0 < n^T r."""
+    n = r.shape[0]
+    P = np.empty((n + 1, n))
+    Wt = np.empty((n + 1, ws))
+    lam = np.empty(n + 1)
+    nvec = np.empty(n)
+    v = np.empty(n)
+    point = np.empty(n)
+    wit = np.empty(ws)
+    st, k, d, h, it, c = zc(ints, floats, np.zeros(n), r, P, Wt, lam, 0, 0.0, 0.0, max_iter,
+                            nvec, v, point, wit)
+    status = MISS if st != MAX_ITER else LIMIT
+    return _result(status, 0.0, 0.0, h, iters + it, calls + c, nvec, P, lam, Wt, 0)
+
+
+@njit(cache=True)
+def _on_ray(P, k, b, x, tol):
+    """Barycentric weights x of b in CH(P[:k]) if b lies there (the improved stopping rule of
+    Fig. 3b: the ray meets CH(V_A(b_k))); False otherwise."""
+    n = P.shape[1]
+    D, work, rhs, wrhs, _ = scratch(n)
+    for i in range(n):
+        rhs[i] = b[i] - P[0, i]
+        for j in range(1, k):
+            D[i, j - 1] = P[j, i] - P[0, i]
+    if not lstsq(D, n, k - 1, rhs, x[1:], work, wrhs):
+        return False
+    s = 1.0
+    for j in range(1, k):
+        s -= x[j]
+    x[0] = s
+    for j in range(k):
+        if x[j] < -tol:
+            return False
+    res = 0.0
+    bn = 0.0
+    for i in range(n):
+        e = -b[i]
+        for j in range(k):
+            e += x[j] * P[j, i]
+        res += e * e
+        bn += b[i] * b[i]
+    if res > (1e-12 * (1.0 + np.sqrt(bn))) ** 2:
+        return False
+    s = 0.0
+    for j in range(k):
+        x[j] = max(x[j], 0.0)
+        s += x[j]
+    for j in range(k):
+        x[j] /= s
+    return True
+
+
+@njit(cache=True)
+def gjk_based(ints, floats, r, ws, eps, max_iter):
+    """Section 3.1: b_k outside A walks down the ray by eq. (4), stopped by Fig. 3b's rule."""
+    n = r.shape[0]
+    rr = np.dot(r, r)
+    P = np.empty((n + 2, n))
+    Wt = np.empty((n + 2, ws))
+    lam = np.empty(n + 2)
+    nvec = np.empty(n)
+    v = np.empty(n)
+    point = np.empty(n)
+    wit = np.empty(ws)
+    x = np.empty(n + 2)
+    h0 = support(ints, floats, r, point, wit)
+    calls = 1
+    if h0 <= 0.0:
+        return _miss(ints, floats, r, ws, 0, calls, max_iter)
+    t = h0 / rr
+    t_up = t
+    best_n = r / np.sqrt(rr)
+    best_h = h0 / np.sqrt(rr)
+    P[0, :] = point
+    Wt[0, :] = wit
+    lam[0] = 1.0
+    k = 1
+    eps_abs = 1e-6 * eps * best_h
+    t_floor = -1.0   # max(-h_A(-r), 0) / r^T r, evaluated when first needed
+    for it in range(max_iter):
+        b = t * r
+        st, k, d, h, gi, gc = gjk(ints, floats, b, P, Wt, lam, k, eps, eps_abs, True,
+                                  max_iter, nvec, v, point, wit)
+        calls += gc
+        if st == INSIDE:
+            # b_k = t r is in A: it met the boundary, or rounding in v_A(b_{k-1}) put it inside.
+            # Done if the last supporting hyperplane certifies it, else go on from inside.
+            if t_up - t <= eps * t:
+                return _result(HIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k)
+            return zc_from(ints, floats, r, ws, eps, max_iter, False, t, P, Wt, lam, k, it + 1,
+                           calls)
+        if st == MAX_ITER:
+            return _result(LIMIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k)
+        rn = np.dot(r, nvec)
+        if rn <= 0.0:
+            return _miss(ints, floats, r, ws, it + 1, calls, max_iter)
+        t_next = t - d / rn
+        if t_floor < 0.0:
+            t_floor = max(-support(ints, floats, -r, point, wit), 0.0) / rr
+            calls += 1
+        if t_next < t_floor:
+            return _miss(ints, floats, r, ws, it + 1, calls, max_iter)
+        if h / rn < t_up:
+            t_up = h / rn
+            best_n[:] = nvec
+            best_h = h
+        t = t_next
+        if st == CONVERGED and _on_ray(P, k, t * r, x, 1e-12):
+            for j in range(k):
+                lam[j] = x[j]
+            return _result(HIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k)
+    return _result(LIMIT, t, t_up, best_h, max_iter, calls, best_n, P, lam, Wt, k)
+
+
+@njit(cache=True)
+def _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter, nvec, v, point, wit):
+    """One ZC-based iteration (section 3.3) from b_k = t r: ZC on A - b_k toward r."""
+    eps_abs = 0.0
+    if t > 0.0:
+        # floor for z near the origin, where the relative rule n^T b -> 0 cannot be met
+        eps_abs = 1e-6 * eps * t * np.sqrt(np.dot(r, r))
+    return zc(ints, floats, t * r, r, P, Wt, lam, k, eps, eps_abs, max_iter, nvec, v, point,
+              wit)
+
+
+@njit(cache=True)
+def _restart(P, Wt, lam, k):
+    """Warm start for the next ZC call: b_{k+1} is a convex combination of all of V_k, so
+    V_k - b_{k+1} is linearly dependent; dropping the point of least weight restores
+    independence."""
+    j = 0
+    for i in range(1, k):
+        if lam[i] < lam[j]:
+            j = i
+    return drop_point(P, Wt, lam, k, j)
+
+
+@njit(cache=True)
+def zc_family(ints, floats, r, ws, eps, max_iter, use_ie):
+    """Section 3.3 (ZC-based) and, with use_ie, section 3.4.2 (ZC-IE): ZC-based iterations, and
+    whenever V_k has n points (a facet whose interior the ray crosses) plain IE steps."""
+    n = r.shape[0]
+    return zc_from(ints, floats, r, ws, eps, max_iter, use_ie, 0.0, np.empty((n + 2, n)),
+                   np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0)
+
+
+@njit(cache=True)
+def zc_from(ints, floats, r, ws, eps, max_iter, use_ie, t, Pz, Wz, lz, kz, it, calls):
+    """ZC-based / ZC-IE iterations from b = t r in A, the convex combination lz of Pz[:kz]
+    (t = 0, kz = 0: from the origin, which first decides whether the ray meets A)."""
+    n = r.shape[0]
+    P = np.empty((n + 2, n))
+    Wt = np.empty((n + 2, ws))
+    lam = np.empty(n + 2)
+    P[:kz] = Pz[:kz]
+    Wt[:kz] = Wz[:kz]
+    lam[:kz] = lz[:kz]
+    k = _restart(P, Wt, lam, kz) if kz > 0 else 0
+    nvec = np.empty(n)
+    v = np.empty(n)
+    point = np.empty(n)
+    wit = np.empty(ws)
+    ones = np.ones(n)
+    M = np.empty((n, n))
+    lu = np.empty((n, n))
+    piv = np.empty(n, np.int64)
+    y = np.empty(n)
+    gam = np.empty(n)
+    alpha = np.empty(n)
+    while it < max_iter:
+        if use_ie and k == n:
+            # IE step on the facet CH(V): hyperplane y^T x = 1, r = sum gam_l a_l, gam > 0
+            for j in range(n):
+                for i in range(n):
+                    M[i, j] = P[j, i]
+            ok = lu_factor(M, n, lu, piv)
+            if ok:
+                lu_solve_t(lu, piv, n, ones, y)
+                lu_solve(lu, piv, n, r, gam)
+                yr = np.dot(y, r)
+                ok = yr > 0.0 and gam.min() >= -1e-12 * yr
+            if not ok:
+                # rounding broke the facet: return to the last simplex known to hold b_k
+                P[:kz] = Pz[:kz]
+                Wt[:kz] = Wz[:kz]
+                lam[:kz] = lz[:kz]
+                k = _restart(P, Wt, lam, kz)
+            elif gam.min() <= 1e-12 * yr:
+                # the ray crosses a lower-dimensional face of the facet: keep that face and
+                # continue with ZC-based iterations (section 3.4.2)
+                t = 1.0 / yr
+                for j in range(n):
+                    lam[j] = max(gam[j], 0.0) * t
+                kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
+                j = n - 1
+                while j >= 0:
+                    if lam[j] <= 1e-12:
+                        k = drop_point(P, Wt, lam, k, j)
+                    j -= 1
+                k = _restart(P, Wt, lam, k)
+            else:
+                t = 1.0 / yr
+                for j in range(n):
+                    lam[j] = gam[j] * t
+                kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
+                ny = np.sqrt(np.dot(y, y))
+                for i in range(n):
+                    nvec[i] = y[i] / ny
+                h = support(ints, floats, nvec, point, wit)
+                calls += 1
+                it += 1
+                if h - 1.0 / ny <= eps * (1.0 / ny):
+                    return _result(HIT, t, h * ny / yr, h, it, calls, nvec, Pz, lz, Wz, kz)
+                # ratio test: the new facet the ray crosses replaces the vertex j*
+                lu_solve(lu, piv, n, point, alpha)
+                js = 0
+                best = np.inf
+                for j in range(n):
+                    if alpha[j] > 0.0 and gam[j] / alpha[j] < best:
+                        best = gam[j] / alpha[j]
+                        js = j
+                P[js, :] = point
+                Wt[js, :] = wit
+                continue
+        st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter,
+                                           nvec, v, point, wit)
+        calls += zcalls
+        it += 1
+        if st == INSIDE:
+            sigma = lam[:k].sum()
+            t += 1.0 / sigma
+            for j in range(k):
+                lam[j] /= sigma
+            kz = _keep(P, Wt, lam, k, Pz, Wz, lz)
+            if not (use_ie and k == n):
+                k = _restart(P, Wt, lam, k)
+            continue
+        if st == MAX_ITER:
+            break
+        if t == 0.0:
+            # CONVERGED here means h_A(n) <= 0 < n^T r: a certified miss. STALLED means r lies
+            # on the boundary of CO(A) to rounding: the ray at most grazes A, reported a miss.
+            return _result(MISS, 0.0, 0.0, h, it, calls, nvec, P, lam, Wt, 0)
+        # converged (or stalled at rounding): z = b_k, supported by H(n, s_A(n))
+        h_n = h + t * np.dot(nvec, r)
+        return _result(HIT, t, h_n / np.dot(nvec, r), h_n, it, calls, nvec, Pz, lz, Wz, kz)
+    return _result(LIMIT, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz)
+
+
+@njit(cache=True)
+def bi_gjk(ints, floats, r, ws, eps, max_iter):
+    """Section 3.4.1: bisection between a point of A on the ray (from ZC) and a point outside
+    (from supporting hyperplanes), each midpoint tested by GJK."""
+    n = r.shape[0]
+    rr = np.dot(r, r)
+    P = np.empty((n + 2, n))
+    Wt = np.empty((n + 2, ws))
+    lam = np.empty(n + 2)
+    Pz = np.empty((n + 2, n))
+    Wz = np.empty((n + 2, ws))
+    lz = np.empty(n + 2)
+    nvec = np.empty(n)
+    v = np.empty(n)
+    point = np.empty(n)
+    wit = np.empty(ws)
+    x = np.empty(n + 2)
+    st, k, d, h, zi, calls = zc(ints, floats, np.zeros(n), r, P, Wt, lam, 0, 0.0, 0.0,
+                                max_iter, nvec, v, point, wit)
+    if st != INSIDE:
+        return _result(MISS if st == CONVERGED else LIMIT, 0.0, 0.0, h, 1, calls, nvec, P,
+                       lam, Wt, 0)
+    sigma = lam[:k].sum()
+    t_lo = 1.0 / sigma
+    for j in range(k):
+        lam[j] /= sigma
+    kz = _keep(P, Wt, lam, k, Pz, Wz, lz)
+    best_h = support(ints, floats, r, point, wit) / np.sqrt(rr)
+    calls += 1
+    best_n = r / np.sqrt(rr)
+    t_hi = best_h / np.sqrt(rr)
+    t_up = t_hi
+    eps_abs = 1e-6 * eps * best_h
+    for it in range(max_iter):
+        if t_up - t_lo <= eps * t_lo:
+            return _result(HIT, t_lo, t_up, best_h, it + 1, calls, best_n, Pz, lz, Wz, kz)
+        if t_hi - t_lo <= 1e-3 * eps * t_lo:
+            # the bracket closed on points GJK could not certify: finish from inside
+            return zc_from(ints, floats, r, ws, eps, max_iter, False, t_lo, Pz, Wz, lz, kz,
+                           it + 1, calls)
+        tm = 0.5 * (t_lo + t_hi)
+        b = tm * r
+        st, k, d, h, gi, gc = gjk(ints, floats, b, P, Wt, lam, k, eps, eps_abs, True,
+                                  max_iter, nvec, v, point, wit)
+        calls += gc
+        if st == MAX_ITER:
+            break
+        if st == INSIDE:
+            t_lo = tm
+            kz = _keep(P, Wt, lam, k, Pz, Wz, lz)
+            continue
+        rn = np.dot(r, nvec)
+        if rn > 0.0 and h / rn < t_up:
+            t_up = h / rn
+            best_n[:] = nvec
+            best_h = h
+        # GJK puts tm r outside A; when its gap is too wide to certify that, the bisection
+        # still moves (t_up stays the certified bound)
+        t_hi = min(tm, t_up)
+        if rn <= 0.0:
+            continue
+        t_b = tm - d / rn
+        if st == CONVERGED and t_b > t_lo and _on_ray(P, k, t_b * r, x, 1e-12):
+            t_lo = t_b
+            kz = _keep(P, Wt, x, k, Pz, Wz, lz)
+    return _result(LIMIT, t_lo, t_up, best_h, max_iter, calls, best_n, Pz, lz, Wz, kz)
+
+
+@njit(cache=True)
+def shoot(ints, floats, r, ws, method, eps, max_iter):
+    """One entry point from Python for every procedure (one dispatch, one compilation)."""
+    if method == GJK_BASED:
+        return gjk_based(ints, floats, r, ws, eps, max_iter)
+    if method == BI_GJK:
+        return bi_gjk(ints, floats, r, ws, eps, max_iter)
+    if method == IE:
+        return zc_family(ints, floats, r, ws, eps, max_iter, True)
+    return zc_family(ints, floats, r, ws, eps, max_iter, method == ZC_IE)

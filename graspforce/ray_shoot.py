@@ -1,0 +1,51 @@
+"""gf.ray_shoot: z_A(r), Z_A(r) and a supporting hyperplane by the five procedures of section 3."""
+import numpy as np
+
+from . import _shooters as S
+from ._validate import finite_array, finite_scalar, positive_int
+from .results import RayShot
+from .sets import ConvexSet
+
+METHODS = {"gjk": S.GJK_BASED, "ie": S.IE, "zc": S.ZC_BASED, "bi-gjk": S.BI_GJK,
+           "zc-ie": S.ZC_IE}
+_STATUS = {S.HIT: "hit", S.MISS: "miss", S.LIMIT: "max_iter"}
+
+
+def check_ray_input(A, r, eps, max_iter):
+    if not isinstance(A, ConvexSet):
+        raise TypeError(f"A: expected a graspforce convex set, got {type(A).__name__}")
+    r = finite_array(r, "r", ndim=1)
+    if r.shape[0] != A.dim:
+        raise ValueError(f"r: must have the set's dimension {A.dim}, got {r.shape[0]}")
+    if not np.any(r):
+        raise ValueError("r: the ray direction must be nonzero")
+    eps = finite_scalar(eps, "eps", minimum=0.0, exclusive=True)
+    return r, eps, positive_int(max_iter, "max_iter")
+
+
+def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=1000):
+    """Farthest point z_A(r) of A on the ray R(r) = {lambda r : lambda >= 0} (section 2.1).
+
+    method: "gjk" (3.1), "ie" (3.2), "zc" (3.3), "bi-gjk" (3.4.1) or "zc-ie" (3.4.2).
+    eps: relative tolerance; every method stops once (h_A(n) - n^T z) <= eps n^T z, which
+    bounds the relative error in t by eps (t_upper / t - 1 <= eps).
+    max_iter: iteration limit; reaching it is the status "max_iter", never an exception.
+    """
+    if method not in METHODS:
+        raise ValueError(f"method: must be one of {sorted(METHODS)}, got {method!r}")
+    r, eps, max_iter = check_ray_input(A, r, eps, max_iter)
+    ints, floats = A.program
+    code = METHODS[method]
+    out = S.shoot(ints, floats, r, A.witness_size, code, eps, max_iter)
+    return make_ray_shot(A, r, method, out)
+
+
+def make_ray_shot(A, r, method, out):
+    status, t, t_up, h_n, iters, calls, normal, V, weights, W = out
+    hit = status == S.HIT
+    return RayShot(
+        hit=hit, status=_STATUS[status], method=method, t=t, t_upper=t_up, point=t * r,
+        vertices=V, weights=weights, witnesses=tuple(A.decode_witness(w) for w in W),
+        normal=normal, support_value=h_n,
+        error_bound=(t_up - t) * float(np.sqrt(r @ r)) if hit else np.inf,
+        iterations=int(iters), support_calls=int(calls))

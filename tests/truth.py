@@ -1,0 +1,658 @@
+"""Independent reference solvers for the graspforce test suite.
+
+Nothing here imports graspforce. A convex set is described by a small tree of plain tuples
+(a *description*), from which the tests build the graspforce object (conftest.build) and from
+which this module computes the truth with generic solvers (scipy's HiGHS LP, scipy's NNLS,
+Clarabel's conic interior point method) or closed forms:
+
+    ("poly", V)                      CH of the rows of V (m, n)
+    ("ell", c, S)                    {c + S x : ||x|| <= 1}, S (n, k) of any rank
+    ("box", half, center, R)         {center + R x : |x_i| <= half_i}
+    ("tcone", rb, rt, h)             3-D truncated cone, axis +z, bottom disk (radius rb) at -h/2
+    ("capsule", radius, length)      3-D segment [-L/2, L/2] e_z swept by a ball
+    ("hull", [children])             convex hull of the union
+    ("sum", [children])              Minkowski sum
+    ("affine", M, t, child)          {M a + t : a in child}
+
+Leaves (for witnesses) are poly, ell, box and tcone, numbered depth-first.
+"""
+import numpy as np
+import scipy.optimize
+import scipy.sparse as sp
+
+import clarabel
+
+LEAF_KINDS = ("poly", "ell", "box", "tcone")
+
+
+# ----------------------------------------------------------------------------------------------
+# descriptions: helpers
+# ----------------------------------------------------------------------------------------------
+def poly(V):
+    return ("poly", np.asarray(V, dtype=float))
+
+
+def ell(c, S):
+    c = np.asarray(c, dtype=float)
+    S = np.asarray(S, dtype=float)
+    if S.ndim == 1:
+        S = S[:, None]
+    return ("ell", c, S)
+
+
+def ball(c, radius):
+    c = np.asarray(c, dtype=float)
+    return ("ell", c, radius * np.eye(c.size))
+
+
+def box(half, center=None, R=None):
+    half = np.asarray(half, dtype=float)
+    n = half.size
+    center = np.zeros(n) if center is None else np.asarray(center, dtype=float)
+    R = np.eye(n) if R is None else np.asarray(R, dtype=float)
+    return ("box", half, center, R)
+
+
+def tcone(rb, rt, h):
+    return ("tcone", float(rb), float(rt), float(h))
+
+
+def capsule(radius, length):
+    return ("capsule", float(radius), float(length))
+
+
+def hull(*children):
+    return ("hull", list(children))
+
+
+def msum(*children):
+    return ("sum", list(children))
+
+
+def affine(M, child, t=None):
+    M = np.asarray(M, dtype=float)
+    t = np.zeros(M.shape[0]) if t is None else np.asarray(t, dtype=float)
+    return ("affine", M, t, child)
+
+
+def neg(child):
+    n = dim(child)
+    return ("affine", -np.eye(n), np.zeros(n), child)
+
+
+def dim(d):
+    k = d[0]
+    if k == "poly":
+        return d[1].shape[1]
+    if k == "ell":
+        return d[1].size
+    if k == "box":
+        return d[1].size
+    if k in ("tcone", "capsule"):
+        return 3
+    if k in ("hull", "sum"):
+        return dim(d[1][0])
+    if k == "affine":
+        return d[1].shape[0]
+    raise ValueError(k)
+
+
+def leaves(d):
+    """Leaf descriptions in depth-first order."""
+    k = d[0]
+    if k in LEAF_KINDS:
+        return [d]
+    if k in ("hull", "sum"):
+        out = []
+        for c in d[1]:
+            out += leaves(c)
+        return out
+    if k == "affine":
+        return leaves(d[3])
+    raise ValueError(k)
+
+
+def scale_of(d):
+    """A bound on max ||a|| over the set (used only to scale absolute round-off tolerances)."""
+    n = dim(d)
+    return float(max(support(d, e) for e in np.vstack([np.eye(n), -np.eye(n)])) * np.sqrt(n))
+
+
+# ----------------------------------------------------------------------------------------------
+# support function (closed forms, plain numpy)
+# ----------------------------------------------------------------------------------------------
+def support(d, u):
+    """h_A(u) = max_{a in A} u.a."""
+    u = np.asarray(u, dtype=float)
+    k = d[0]
+    if k == "poly":
+        return float(np.max(d[1] @ u))
+    if k == "ell":
+        return float(d[1] @ u + np.linalg.norm(d[2].T @ u))
+    if k == "box":
+        half, center, R = d[1], d[2], d[3]
+        return float(center @ u + np.sum(half * np.abs(R.T @ u)))
+    if k == "tcone":
+        rb, rt, h = d[1], d[2], d[3]
+        q = np.hypot(u[0], u[1])
+        return float(max(0.5 * h * u[2] + rt * q, -0.5 * h * u[2] + rb * q))
+    if k == "capsule":
+        radius, length = d[1], d[2]
+        return float(abs(u[2]) * length / 2 + radius * np.linalg.norm(u))
+    if k == "hull":
+        return max(support(c, u) for c in d[1])
+    if k == "sum":
+        return float(sum(support(c, u) for c in d[1]))
+    if k == "affine":
+        M, t, child = d[1], d[2], d[3]
+        return float(support(child, M.T @ u) + t @ u)
+    raise ValueError(k)
+
+
+# ----------------------------------------------------------------------------------------------
+# witnesses, evaluated independently (also checks that the leaf-local pre-image is feasible)
+# ----------------------------------------------------------------------------------------------
+class WitnessError(AssertionError):
+    pass
+
+
+def _leaf_point(leaf, local, tol):
+    k = leaf[0]
+    if k == "poly":
+        V = leaf[1]
+        idx = int(local)
+        if idx != local or not 0 <= idx < V.shape[0]:
+            raise WitnessError(f"bad vertex index {local!r}")
+        return V[idx].copy()
+    if k == "ell":
+        c, S = leaf[1], leaf[2]
+        x = np.asarray(local, dtype=float).reshape(-1)
+        if x.size != S.shape[1]:
+            raise WitnessError(f"ellipsoid witness of size {x.size}, expected {S.shape[1]}")
+        if np.linalg.norm(x) > 1 + tol:
+            raise WitnessError(f"ellipsoid witness outside the unit ball: ||x|| = {np.linalg.norm(x)!r}")
+        return c + S @ x
+    if k == "box":
+        half, center, R = leaf[1], leaf[2], leaf[3]
+        x = np.asarray(local, dtype=float).reshape(-1)
+        if x.size != half.size or np.any(np.abs(x) > half * (1 + tol)):
+            raise WitnessError(f"box witness {x!r} outside half extents {half!r}")
+        return center + R @ x
+    if k == "tcone":
+        rb, rt, h = leaf[1], leaf[2], leaf[3]
+        x = np.asarray(local, dtype=float).reshape(-1)
+        s = x[2] / h + 0.5
+        if x.size != 3 or not (-tol <= s <= 1 + tol):
+            raise WitnessError(f"truncated-cone witness {x!r} outside the slab")
+        rad = rb + (rt - rb) * min(max(s, 0.0), 1.0)
+        if np.hypot(x[0], x[1]) > rad + tol * max(rb, rt, h):
+            raise WitnessError(f"truncated-cone witness {x!r} outside the lateral surface")
+        return x.copy()
+    raise ValueError(k)
+
+
+def witness_point(d, witness, tol=1e-12):
+    """Map a witness ((leaf_index, local), ...) to a point of the set described by d.
+
+    Raises WitnessError when the witness is malformed (wrong leaves for a hull/sum, infeasible
+    leaf-local pre-image)."""
+    wit = {}
+    for pair in witness:
+        li, local = pair
+        li = int(li)
+        if li in wit:
+            raise WitnessError(f"leaf {li} appears twice in the witness")
+        wit[li] = local
+    counter = [0]
+
+    def rec(node):
+        k = node[0]
+        if k in LEAF_KINDS:
+            i = counter[0]
+            counter[0] += 1
+            if i in wit:
+                return _leaf_point(node, wit.pop(i), tol)
+            return None
+        if k == "hull":
+            pts = [rec(c) for c in node[1]]
+            got = [p for p in pts if p is not None]
+            if len(got) > 1:
+                raise WitnessError("more than one child of a hull in the witness")
+            return got[0] if got else None
+        if k == "sum":
+            pts = [rec(c) for c in node[1]]
+            if all(p is None for p in pts):
+                return None
+            if any(p is None for p in pts):
+                raise WitnessError("a summand of a Minkowski sum is missing from the witness")
+            return np.sum(pts, axis=0)
+        if k == "affine":
+            p = rec(node[3])
+            return None if p is None else node[1] @ p + node[2]
+        if k == "capsule":
+            raise ValueError("capsule: use capsule_contains")
+        raise ValueError(k)
+
+    p = rec(d)
+    if wit:
+        raise WitnessError(f"unknown leaves in the witness: {sorted(wit)}")
+    if p is None:
+        raise WitnessError("empty witness")
+    return p
+
+
+def capsule_contains(radius, length, p, tol=1e-12):
+    p = np.asarray(p, dtype=float)
+    z = min(max(p[2], -length / 2), length / 2)
+    return np.linalg.norm(p - np.array([0.0, 0.0, z])) <= radius + tol * max(radius, length, 1.0)
+
+
+# ----------------------------------------------------------------------------------------------
+# polytope ray shooting: HiGHS LP, polished on the optimal face
+# ----------------------------------------------------------------------------------------------
+HIGHS = dict(primal_feasibility_tolerance=1e-10, dual_feasibility_tolerance=1e-10)
+
+
+def ray_shoot_lp(V, r):
+    """max t s.t. t r = V^T lam, lam >= 0, sum lam = 1, t >= 0.  Returns (hit, t, lam).
+
+    HiGHS is accurate to ~1e-10; the answer is then polished: the active vertices (lam > 0) span
+    the optimal face, and (t, lam_active) is re-solved exactly from the linear equations with
+    numpy least squares (unique when the ray crosses the face transversally; otherwise the HiGHS
+    value is kept)."""
+    V = np.asarray(V, dtype=float)
+    r = np.asarray(r, dtype=float)
+    m, n = V.shape
+    c = np.zeros(m + 1)
+    c[0] = -1.0
+    A_eq = np.zeros((n + 1, m + 1))
+    A_eq[:n, 0] = r
+    A_eq[:n, 1:] = -V.T
+    A_eq[n, 1:] = 1.0
+    b_eq = np.zeros(n + 1)
+    b_eq[n] = 1.0
+    bounds = [(0, None)] * (m + 1)        # t >= 0: the ray starts at the origin
+    res = scipy.optimize.linprog(c, A_eq=A_eq, b_eq=b_eq, bounds=bounds, method="highs",
+                                 options=HIGHS)
+    if res.status == 2:
+        return False, 0.0, None
+    assert res.status == 0, res.message
+    t = float(res.x[0])
+    lam = res.x[1:]
+    active = np.flatnonzero(lam > 1e-9)
+    # polish: on the active face, t r = v0 + sum_i mu_i (v_i - v0) (mu_0 = 1 - sum mu_i); solve
+    # [r, -(v_i - v0)] [t, mu] = v0 with unit-norm columns (scale invariance), then verify.
+    W = V[active]
+    v0 = W[0]
+    M = np.column_stack([r] + [-(w - v0) for w in W[1:]])
+    cs = np.linalg.norm(M, axis=0)
+    if np.all(cs > 0) and np.linalg.matrix_rank(M / cs) == M.shape[1]:
+        z, *_ = np.linalg.lstsq(M / cs, v0, rcond=None)
+        z /= cs
+        mu = np.r_[1.0 - z[1:].sum(), z[1:]]
+        resid = np.linalg.norm(z[0] * r - mu @ W)
+        if np.all(mu >= -1e-12) and resid <= 1e-14 * max(np.abs(W).max(), 1e-300) * W.shape[0] \
+                and abs(z[0] - t) <= 1e-8 * abs(t):
+            t = float(z[0])
+            lam = np.zeros(m)
+            lam[active] = mu
+    return True, t, lam
+
+
+def contains_lp(V, b):
+    """Is b in CH(V)?  (feasibility LP)."""
+    V = np.asarray(V, dtype=float)
+    m, n = V.shape
+    A_eq = np.vstack([V.T, np.ones((1, m))])
+    b_eq = np.r_[b, 1.0]
+    res = scipy.optimize.linprog(np.zeros(m), A_eq=A_eq, b_eq=b_eq, bounds=[(0, None)] * m,
+                                 method="highs", options=HIGHS)
+    return res.status == 0
+
+
+# ----------------------------------------------------------------------------------------------
+# ellipsoid ray shooting: closed form
+# ----------------------------------------------------------------------------------------------
+def _largest_root(w, e):
+    """Largest t with ||t w - e|| = 1, or None.  Stable quadratic formula."""
+    ww = w @ w
+    beta = w @ e
+    gamma = e @ e - 1.0
+    D = beta * beta - ww * gamma
+    if D < 0:
+        return None
+    sq = np.sqrt(D)
+    if beta >= 0:
+        return (beta + sq) / ww
+    return gamma / (beta - sq)
+
+
+def ray_shoot_ellipsoid(c, S, r, in_plane=None):
+    """Farthest t >= 0 with t r in {c + S x : ||x|| <= 1}, any rank of S.  Returns (hit, t).
+
+    With S = U diag(s) W^T (rank k'), t r - c must lie in range(U). If the ray direction has a
+    component p = (I - U U^T) r off the plane, t is fixed by the linear equation t p = (I - UU^T) c
+    and the hit is decided by ||diag(1/s) U^T (t r - c)|| <= 1. Otherwise (ray parallel to the
+    plane) the plane must contain the origin and t is the largest root of
+    ||diag(1/s) U^T (t r - c)|| = 1.  `in_plane` overrides the numerical decision of which case
+    applies (for constructions where it is known exactly)."""
+    c = np.asarray(c, dtype=float)
+    S = np.asarray(S, dtype=float)
+    r = np.asarray(r, dtype=float)
+    U, s, _ = np.linalg.svd(S, full_matrices=False)
+    keep = s > 1e-12 * s.max()
+    U, s = U[:, keep], s[keep]
+    p = r - U @ (U.T @ r)
+    q = c - U @ (U.T @ c)
+    if in_plane is None:
+        in_plane = np.linalg.norm(p) <= 1e-10 * np.linalg.norm(r)
+    if not in_plane:
+        t = float(p @ q / (p @ p))
+        if np.linalg.norm(q - t * p) > 1e-10 * max(1.0, np.linalg.norm(c)):
+            return False, 0.0
+        x = (U.T @ (t * r - c)) / s
+        if t < 0 or np.linalg.norm(x) > 1.0:
+            return False, 0.0
+        return True, t
+    if np.linalg.norm(q) > 1e-10 * max(1.0, np.linalg.norm(c)):
+        return False, 0.0
+    w = (U.T @ r) / s
+    e = (U.T @ c) / s
+    t = _largest_root(w, e)
+    if t is None or t < 0:
+        return False, 0.0
+    return True, float(t)
+
+
+# ----------------------------------------------------------------------------------------------
+# conic programs with Clarabel (hulls, sums, anything describable)
+# ----------------------------------------------------------------------------------------------
+class _Conic:
+    """Collects linear equalities, inequalities (expr >= 0) and second-order cones over scalar
+    variables. An affine expression is a pair (dict var -> coef, constant)."""
+
+    def __init__(self):
+        self.nvar = 0
+        self.eq = []
+        self.ge = []
+        self.soc = []
+
+    def new(self, k):
+        idx = list(range(self.nvar, self.nvar + k))
+        self.nvar += k
+        return [({i: 1.0}, 0.0) for i in idx]
+
+    @staticmethod
+    def lin(terms, const=0.0):
+        """sum coef * expr over (coef, expr) + const."""
+        out = {}
+        c0 = const
+        for coef, (d, c) in terms:
+            if coef == 0.0:
+                continue
+            for i, v in d.items():
+                out[i] = out.get(i, 0.0) + coef * v
+            c0 += coef * c
+        return (out, c0)
+
+    def member(self, desc, x, th):
+        """Constrain the vector expression x to lie in th * A (th a scalar expression >= 0)."""
+        k = desc[0]
+        L = self.lin
+        n = len(x)
+        if k == "poly":
+            V = desc[1]
+            lam = self.new(V.shape[0])
+            for l in lam:
+                self.ge.append(l)
+            self.eq.append(L([(1.0, l) for l in lam] + [(-1.0, th)]))
+            for a in range(n):
+                self.eq.append(L([(1.0, x[a])] + [(-V[j, a], lam[j]) for j in range(V.shape[0])]))
+        elif k == "ell":
+            c, S = desc[1], desc[2]
+            y = self.new(S.shape[1])
+            self.soc.append([th] + y)
+            for a in range(n):
+                self.eq.append(L([(1.0, x[a]), (-c[a], th)]
+                                 + [(-S[a, b], y[b]) for b in range(S.shape[1])]))
+        elif k == "box":
+            half, center, R = desc[1], desc[2], desc[3]
+            y = self.new(n)
+            for b in range(n):
+                self.ge.append(L([(1.0, th), (-1.0, y[b])]))
+                self.ge.append(L([(1.0, th), (1.0, y[b])]))
+            for a in range(n):
+                self.eq.append(L([(1.0, x[a]), (-center[a], th)]
+                                 + [(-R[a, b] * half[b], y[b]) for b in range(n)]))
+        elif k == "tcone":
+            rb, rt, h = desc[1], desc[2], desc[3]
+            e2 = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
+            self.member(("hull", [("ell", np.array([0, 0, -h / 2]), rb * e2),
+                                  ("ell", np.array([0, 0, h / 2]), rt * e2)]), x, th)
+        elif k == "capsule":
+            radius, length = desc[1], desc[2]
+            self.member(("sum", [("poly", np.array([[0, 0, -length / 2], [0, 0, length / 2]])),
+                                 ("ell", np.zeros(3), radius * np.eye(3))]), x, th)
+        elif k == "hull":
+            ths = self.new(len(desc[1]))
+            for t_ in ths:
+                self.ge.append(t_)
+            self.eq.append(L([(1.0, t_) for t_ in ths] + [(-1.0, th)]))
+            parts = [self.new(n) for _ in desc[1]]
+            for a in range(n):
+                self.eq.append(L([(1.0, x[a])] + [(-1.0, p[a]) for p in parts]))
+            for child, p, t_ in zip(desc[1], parts, ths):
+                self.member(child, p, t_)
+        elif k == "sum":
+            parts = [self.new(n) for _ in desc[1]]
+            for a in range(n):
+                self.eq.append(L([(1.0, x[a])] + [(-1.0, p[a]) for p in parts]))
+            for child, p in zip(desc[1], parts):
+                self.member(child, p, th)
+        elif k == "affine":
+            M, t, child = desc[1], desc[2], desc[3]
+            y = self.new(M.shape[1])
+            for a in range(n):
+                self.eq.append(L([(1.0, x[a]), (-t[a], th)]
+                                 + [(-M[a, b], y[b]) for b in range(M.shape[1])]))
+            self.member(child, y, th)
+        else:
+            raise ValueError(k)
+
+    def solve(self, objective, tol=1e-12):
+        """minimize objective (an affine expression). Returns (status, x, obj, z) with z the dual
+        variables, the equalities first in the order of self.eq."""
+        rows, cols, vals, b, cones = [], [], [], [], []
+        r = 0
+
+        def put(expr, sign):
+            nonlocal r
+            d, c = expr
+            for i, v in d.items():
+                rows.append(r)
+                cols.append(i)
+                vals.append(sign * v)
+            b.append(-sign * c)
+            r += 1
+
+        for e in self.eq:
+            put(e, 1.0)                   # A x + s = b, s = 0:  A x = -const
+        if self.eq:
+            cones.append(clarabel.ZeroConeT(len(self.eq)))
+        for e in self.ge:
+            put(e, -1.0)                  # s = b - A x = expr >= 0
+        if self.ge:
+            cones.append(clarabel.NonnegativeConeT(len(self.ge)))
+        for blk in self.soc:
+            for e in blk:
+                put(e, -1.0)
+            cones.append(clarabel.SecondOrderConeT(len(blk)))
+        A = sp.csc_matrix((vals, (rows, cols)), shape=(r, self.nvar))
+        q = np.zeros(self.nvar)
+        for i, v in objective[0].items():
+            q[i] += v
+        P = sp.csc_matrix((self.nvar, self.nvar))
+        st = clarabel.DefaultSettings()
+        st.verbose = False
+        st.max_iter = 500
+        st.tol_gap_abs = tol
+        st.tol_gap_rel = tol
+        st.tol_feas = tol
+        st.tol_ktratio = min(1e-8, 100 * tol)
+        solver = clarabel.DefaultSolver(P, q, A, np.array(b), cones, st)
+        sol = solver.solve()
+        return str(sol.status), np.array(sol.x), sol.obj_val + objective[1], np.array(sol.z)
+
+
+def _status_ok(status):
+    return status in ("Solved", "AlmostSolved")
+
+
+def _status_infeasible(status):
+    return status in ("PrimalInfeasible", "AlmostPrimalInfeasible")
+
+
+def ray_shoot_socp(desc, r):
+    """max t s.t. t r in A (A given by a description).  Returns (hit, t, t_upper).
+
+    Clarabel's tolerances are set to 1e-12 (relaxed to 1e-11, 1e-10 when it stops without
+    converging: it sometimes reports InsufficientProgress at 1e-12). The answer is certified: the
+    dual variables y of the n equalities t r = x give a normal n = y with n.r > 0, and by weak
+    duality t_true <= t_upper = h_A(n)/(n.r), evaluated with the exact support function above. The
+    returned t_upper is that certified upper bound; (t_upper - t)/t is the truth's own error (the
+    primal t is feasible up to ~tol)."""
+    r = np.asarray(r, dtype=float)
+    best = None
+    for tol in (1e-12, 1e-11, 1e-10):
+        P = _Conic()
+        (t,) = P.new(1)
+        P.ge.append(t)                        # t >= 0: the ray starts at the origin
+        x = [({0: float(ra)}, 0.0) for ra in r]
+        P.member(desc, x, ({}, 1.0))
+        status, sol, obj, z = P.solve(({0: -1.0}, 0.0), tol=tol)
+        if _status_infeasible(status):
+            return False, 0.0, 0.0
+        rows = [i for i, (dct, _) in enumerate(P.eq) if 0 in dct]
+        assert len(rows) == r.size
+        nrm = z[rows]
+        if nrm @ r < 0:
+            nrm = -nrm
+        t_val = float(sol[0])
+        t_up = support(desc, nrm) / (nrm @ r) if nrm @ r > 0 else np.inf
+        if status == "Solved":
+            return True, t_val, float(t_up)
+        if best is None or t_up - t_val < best[2] - best[1]:
+            best = (True, t_val, float(t_up))
+    assert best is not None and (best[2] - best[1]) <= 1e-9 * best[1], (status, best)
+    return best
+
+
+def closest_point_socp(desc, b):
+    """min ||x - b|| over x in A.  Returns (distance, x)."""
+    b = np.asarray(b, dtype=float)
+    n = b.size
+    P = _Conic()
+    x = P.new(n)
+    (s,) = P.new(1)
+    P.member(desc, x, ({}, 1.0))
+    P.soc.append([s] + [P.lin([(1.0, x[a])], -b[a]) for a in range(n)])
+    status, sol, obj, _ = P.solve(s)
+    assert _status_ok(status), status
+    xv = np.array([sol[next(iter(e[0]))] for e in x])
+    return float(sol[n]), xv
+
+
+def cone_distance_socp(desc, b):
+    """min ||x - b|| over x in CO(A) = {th a : th >= 0, a in A}.  Returns (distance, x)."""
+    b = np.asarray(b, dtype=float)
+    n = b.size
+    P = _Conic()
+    x = P.new(n)
+    (s,) = P.new(1)
+    (th,) = P.new(1)
+    P.ge.append(th)
+    P.member(desc, x, th)
+    P.soc.append([s] + [P.lin([(1.0, x[a])], -b[a]) for a in range(n)])
+    status, sol, obj, _ = P.solve(s)
+    assert _status_ok(status), status
+    xv = np.array([sol[next(iter(e[0]))] for e in x])
+    return float(sol[n]), xv
+
+
+# ----------------------------------------------------------------------------------------------
+# closest points
+# ----------------------------------------------------------------------------------------------
+def closest_point_polytope(V, b):
+    """Exact projection of b onto CH(V): Clarabel SOCP for the optimal face, then the projection
+    onto the affine hull of the active vertices solved exactly (KKT system) and verified
+    (weights >= 0 and every vertex on the far side of the supporting hyperplane).
+    Returns (distance, point)."""
+    V = np.asarray(V, dtype=float)
+    b = np.asarray(b, dtype=float)
+    m, n = V.shape
+    d0, x0 = closest_point_socp(("poly", V), b)
+    scale = max(1.0, np.abs(V).max(), np.linalg.norm(b))
+    # active face: vertices (numerically) on the supporting hyperplane through x0
+    g = b - x0
+    if np.linalg.norm(g) <= 1e-9 * scale:
+        return 0.0, b.copy()
+    nrm = g / np.linalg.norm(g)
+    for tol in (1e-8, 1e-7, 1e-6, 1e-5):
+        act = np.flatnonzero(V @ nrm >= nrm @ x0 - tol * scale)
+        W = V[act]
+        k = W.shape[0]
+        # min ||W^T mu - b||^2  s.t. sum mu = 1
+        K = np.zeros((k + 1, k + 1))
+        K[:k, :k] = W @ W.T
+        K[:k, k] = 1.0
+        K[k, :k] = 1.0
+        rhs = np.r_[W @ b, 1.0]
+        sol, *_ = np.linalg.lstsq(K, rhs, rcond=None)
+        mu = sol[:k]
+        x = mu @ W
+        gg = b - x
+        dd = np.linalg.norm(gg)
+        if dd == 0:
+            continue
+        nn = gg / dd
+        ok = (np.all(mu >= -1e-12) and np.max(V @ nn) - nn @ x <= 1e-13 * scale
+              and abs(dd - d0) <= 1e-6 * scale)
+        if ok:
+            return float(dd), x
+    raise AssertionError("could not polish the polytope projection")
+
+
+def closest_point_ellipsoid(c, S, b):
+    """Exact projection of b onto a full-rank ellipsoid {c + S y : ||y|| <= 1}: the trust-region
+    subproblem min ||S y - (b - c)|| s.t. ||y|| <= 1, solved through its secular equation
+    ||(S^T S + mu I)^{-1} S^T (b - c)|| = 1 by bracketing root finding (brentq).
+    Returns (distance, point)."""
+    c = np.asarray(c, dtype=float)
+    S = np.asarray(S, dtype=float)
+    g = np.asarray(b, dtype=float) - c
+    U, s, Wt = np.linalg.svd(S, full_matrices=False)
+    assert S.shape[0] == S.shape[1] and s.min() > 1e-8 * s.max(), "square, full rank only"
+    beta = U.T @ g                   # S^T g = W diag(s) beta
+    if np.linalg.norm(beta / s) <= 1.0:
+        return 0.0, np.asarray(b, dtype=float).copy()
+
+    def phi(mu):
+        return np.linalg.norm(s * beta / (s * s + mu)) - 1.0
+
+    hi = 1.0
+    while phi(hi) > 0:
+        hi *= 2.0
+    mu = scipy.optimize.brentq(phi, 0.0, hi, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=500)
+    yw = s * beta / (s * s + mu)
+    yw /= np.linalg.norm(yw)
+    x = c + U @ (s * yw)
+    return float(np.linalg.norm(np.asarray(b) - x)), x
+
+
+def cone_distance_nnls(V, b):
+    """Distance from b to the cone of the rows of V (scipy NNLS). Returns (distance, point, coef)."""
+    V = np.asarray(V, dtype=float)
+    b = np.asarray(b, dtype=float)
+    coef, rnorm = scipy.optimize.nnls(V.T, b, maxiter=50 * V.shape[0])
+    x = V.T @ coef
+    return float(np.linalg.norm(b - x)), x, coef
