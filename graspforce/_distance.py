@@ -14,6 +14,12 @@ INSIDE = 1      # the target is in CH(V) (GJK) or in CO(V - shift) (ZC): distanc
 STALLED = 2     # the new support point brought no decrease: the answer is exact to rounding
 MAX_ITER = 3
 
+# A least-squares residual below INSIDE_TOL times the target's norm is rounding, not distance.
+# The point the callers report then differs from its convex combination by at most this much,
+# relative.
+INSIDE_TOL = 1e-11
+ROUNDING = 1e-13   # about 500 unit roundoffs
+
 
 @njit(cache=True)
 def scratch(n):
@@ -47,7 +53,7 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
         k = 1
     else:
         k, _ = corral(P, Wt, lam, k, b, b, True, D, work, rhs, wrhs, x)
-    tiny = 1e-14 * (np.sqrt(np.dot(b, b)) + np.sqrt(np.dot(P[0], P[0]))) + 1e-300
+    tiny = INSIDE_TOL * (np.sqrt(np.dot(b, b)) + np.sqrt(np.dot(P[0], P[0]))) + 1e-300
     d = np.inf
     h = 0.0
     for it in range(max_iter):
@@ -110,16 +116,24 @@ def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, n
     d = tnorm
     for it in range(max_iter):
         v[:] = 0.0
+        mass = 0.0
         for j in range(k):
+            gnorm = 0.0
             for i in range(n):
-                v[i] += lam[j] * (P[j, i] - shift[i])
+                g = P[j, i] - shift[i]
+                v[i] += lam[j] * g
+                gnorm += g * g
+            mass += lam[j] * np.sqrt(gnorm)
         d = 0.0
         for i in range(n):
             nvec[i] = target[i] - v[i]
             d += nvec[i] * nvec[i]
         d = np.sqrt(d)
-        if d <= 1e-14 * tnorm or k == n:
-            # n linearly independent generators span R^n: the residual is rounding only
+        if d <= INSIDE_TOL * tnorm or d <= ROUNDING * mass or k == n:
+            # the residual is rounding: of the target's size, or of the sum of the terms
+            # lam_j (P_j - shift), which grows like 1/(t_{k+1} - t_k) as b_k nears z_A(r);
+            # or n independent generators span R^n. The point the shooters build from lam
+            # moves by d / sum(lam), far below INSIDE_TOL relative.
             return INSIDE, k, 0.0, h, it, calls
         for i in range(n):
             nvec[i] /= d

@@ -124,11 +124,10 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
     Wt[0, :] = wit
     lam[0] = 1.0
     k = 1
-    eps_abs = 1e-6 * eps * best_h
     t_floor = -1.0   # max(-h_A(-r), 0) / r^T r, evaluated when first needed
     for it in range(max_iter):
         b = t * r
-        st, k, d, h, gi, gc = gjk(ints, floats, b, P, Wt, lam, k, eps, eps_abs, True,
+        st, k, d, h, gi, gc = gjk(ints, floats, b, P, Wt, lam, k, eps, 0.0, True,
                                   max_iter, nvec, v, point, wit)
         calls += gc
         if st == INSIDE:
@@ -164,22 +163,20 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
 @njit(cache=True)
 def _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter, nvec, v, point, wit):
     """One ZC-based iteration (section 3.3) from b_k = t r: ZC on A - b_k toward r."""
-    eps_abs = 0.0
-    if t > 0.0:
-        # floor for z near the origin, where the relative rule n^T b -> 0 cannot be met
-        eps_abs = 1e-6 * eps * t * np.sqrt(np.dot(r, r))
-    return zc(ints, floats, t * r, r, P, Wt, lam, k, eps, eps_abs, max_iter, nvec, v, point,
-              wit)
+    # purely relative: an absolute floor would accept h > eps n^T b when n^T r is small
+    return zc(ints, floats, t * r, r, P, Wt, lam, k, eps, 0.0, max_iter, nvec, v, point, wit)
 
 
 @njit(cache=True)
 def _restart(P, Wt, lam, k):
     """Warm start for the next ZC call: b_{k+1} is a convex combination of all of V_k, so
-    V_k - b_{k+1} is linearly dependent; dropping the point of least weight restores
-    independence."""
+    V_k - b_{k+1} is linearly dependent; dropping one point restores independence. Drop the
+    point of largest weight: b_{k+1} lies near it, so the others, seen from b_{k+1}, stay far
+    from anti-parallel (dropping the least weight leaves b_{k+1} near their face and the
+    generators ill-conditioned)."""
     j = 0
     for i in range(1, k):
-        if lam[i] < lam[j]:
+        if lam[i] > lam[j]:
             j = i
     return drop_point(P, Wt, lam, k, j)
 
@@ -274,6 +271,11 @@ def zc_from(ints, floats, r, ws, eps, max_iter, use_ie, t, Pz, Wz, lz, kz, it, c
         st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter,
                                            nvec, v, point, wit)
         calls += zcalls
+        if st == STALLED and t > 0.0:
+            # rounding in the warm-started generators: start ZC afresh from b_k once
+            st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, 0, eps,
+                                               max_iter, nvec, v, point, wit)
+            calls += zcalls
         it += 1
         if st == INSIDE:
             sigma = lam[:k].sum()
@@ -316,7 +318,8 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
     st, k, d, h, zi, calls = zc(ints, floats, np.zeros(n), r, P, Wt, lam, 0, 0.0, 0.0,
                                 max_iter, nvec, v, point, wit)
     if st != INSIDE:
-        return _result(MISS if st == CONVERGED else LIMIT, 0.0, 0.0, h, 1, calls, nvec, P,
+        # as in zc_from at t = 0: a certified miss, or r on the boundary of CO(A) to rounding
+        return _result(MISS if st != MAX_ITER else LIMIT, 0.0, 0.0, h, 1, calls, nvec, P,
                        lam, Wt, 0)
     sigma = lam[:k].sum()
     t_lo = 1.0 / sigma
@@ -328,7 +331,6 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
     best_n = r / np.sqrt(rr)
     t_hi = best_h / np.sqrt(rr)
     t_up = t_hi
-    eps_abs = 1e-6 * eps * best_h
     for it in range(max_iter):
         if t_up - t_lo <= eps * t_lo:
             return _result(HIT, t_lo, t_up, best_h, it + 1, calls, best_n, Pz, lz, Wz, kz)
@@ -338,7 +340,7 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
                            it + 1, calls)
         tm = 0.5 * (t_lo + t_hi)
         b = tm * r
-        st, k, d, h, gi, gc = gjk(ints, floats, b, P, Wt, lam, k, eps, eps_abs, True,
+        st, k, d, h, gi, gc = gjk(ints, floats, b, P, Wt, lam, k, eps, 0.0, True,
                                   max_iter, nvec, v, point, wit)
         calls += gc
         if st == MAX_ITER:

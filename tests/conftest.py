@@ -88,7 +88,7 @@ def check_witness(A, d, vertex, witness, what="vertex"):
 
 
 def _check_hit(A, d, r, res, t_true, method, eps=1e-9, t_rtol=T_RTOL, exact=True,
-               t_true_upper=None):
+               t_true_upper=None, label=""):
     """All contract assertions for a hit (requirement 4 of the issue).
 
     exact: t_true is exact to ~1e-14 (LP polished, closed form), so the bracket
@@ -96,7 +96,7 @@ def _check_hit(A, d, r, res, t_true, method, eps=1e-9, t_rtol=T_RTOL, exact=True
     bound of the true t (weak duality with the exact support function) and t <= t_true_upper."""
     r = np.asarray(r, dtype=float)
     n = r.size
-    ctx = f"[{method}] r={r.tolist()} t_true={t_true!r}"
+    ctx = f"[{method}{' ' + label if label else ''}] r={r.tolist()} t_true={float(t_true)!r}"
     assert res.status == "hit", f"{ctx}: status {res.status!r}, expected 'hit'"
     assert res.hit is True or res.hit == True, ctx  # noqa: E712
     assert res.method == method, ctx
@@ -159,10 +159,10 @@ def _check_hit(A, d, r, res, t_true, method, eps=1e-9, t_rtol=T_RTOL, exact=True
         f"{ctx}: certified relative gap (h(n) - n.z)/(n.z) = {(h_mine - nz) / nz:.3e} > eps"
 
 
-def _check_miss(A, d, r, res, method):
+def _check_miss(A, d, r, res, method, label=""):
     r = np.asarray(r, dtype=float)
     n = r.size
-    ctx = f"[{method}] r={r.tolist()} (truth: miss)"
+    ctx = f"[{method}{' ' + label if label else ''}] r={r.tolist()} (truth: miss)"
     assert res.status == "miss", f"{ctx}: status {res.status!r} (t={res.t!r}), expected 'miss'"
     assert not res.hit, ctx
     assert res.method == method, ctx
@@ -191,12 +191,12 @@ def check_miss():
 
 
 def _check_shot(A, d, r, res, truth_hit, t_true, method, exact=True, t_rtol=T_RTOL,
-                t_true_upper=None):
+                t_true_upper=None, label=""):
     if truth_hit:
         _check_hit(A, d, r, res, t_true, method, exact=exact, t_rtol=t_rtol,
-                   t_true_upper=t_true_upper)
+                   t_true_upper=t_true_upper, label=label)
     else:
-        _check_miss(A, d, r, res, method)
+        _check_miss(A, d, r, res, method, label=label)
 
 
 @pytest.fixture

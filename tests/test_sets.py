@@ -1,0 +1,290 @@
+"""Convex sets: support functions and support points against closed forms and brute force,
+witnesses, leaves, operators (hull, Minkowski sum, affine with non-square M, -A, pose)."""
+import numpy as np
+import pytest
+
+import graspforce as gf
+import truth as T
+from conftest import build, check_witness, random_ellipsoid, random_rotation
+
+
+def unit_dirs(rng, n, k):
+    u = rng.standard_normal((k, n))
+    return u / np.linalg.norm(u, axis=1, keepdims=True)
+
+
+def sphere_samples(rng, k, m):
+    x = rng.standard_normal((m, k))
+    return x / np.linalg.norm(x, axis=1, keepdims=True)
+
+
+def check_support(A, d, u, h_exact=None, samples=None, sample_gap=None):
+    """h = A.support(u): equal to the closed form, >= every sample, and within sample_gap of the
+    best sample; the support point p is a point of A (via its witness) with u.p = h."""
+    h, p = A.support(u)
+    h2, p2, wit = A.support_witness(u)
+    scale = max(1.0, abs(h))
+    assert abs(h - h2) <= 1e-15 * scale and np.array_equal(p, p2)
+    assert abs(u @ p - h) <= 1e-12 * scale, f"u.s_A(u) = {u @ p!r} != h_A(u) = {h!r}"
+    if h_exact is None:
+        h_exact = T.support(d, u)
+    assert abs(h - h_exact) <= 1e-12 * scale, f"h_A(u) = {h!r}, closed form {h_exact!r}"
+    if samples is not None:
+        best = np.max(samples @ u)
+        assert h >= best - 1e-12 * scale, f"h_A(u) = {h!r} < a sampled point's {best!r}"
+        assert h - best <= sample_gap, f"h_A(u) - best sample = {h - best:.3e} > {sample_gap:.1e}"
+    check_witness(A, d, p, wit, what=f"support point for u={u.tolist()}")
+    return h, p
+
+
+# ----------------------------------------------------------------------------------------------
+# primitives
+# ----------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("n", [2, 3, 5, 8])
+def test_polytope_support_exact(n):
+    rng = np.random.default_rng(100 + n)
+    V = rng.standard_normal((3 * n + 4, n))
+    A = gf.Polytope(V)
+    d = T.poly(V)
+    assert A.dim == n
+    for u in unit_dirs(rng, n, 50):
+        h, p = check_support(A, d, u, h_exact=np.max(V @ u))
+        assert any(np.array_equal(p, v) for v in V), "support point is not a vertex"
+    # the witness local is the vertex index
+    h, p, wit = A.support_witness(unit_dirs(rng, n, 1)[0])
+    ((leaf, local),) = wit
+    assert leaf == 0 and np.array_equal(V[int(local)], p)
+
+
+@pytest.mark.parametrize("nk", [(2, 2), (3, 3), (3, 2), (3, 1), (4, 2)])
+def test_ellipsoid_support_brute_force(nk):
+    n, k = nk
+    rng = np.random.default_rng(200 + 10 * n + k)
+    c, S = random_ellipsoid(rng, n, k)
+    A = gf.Ellipsoid(c, S)
+    d = T.ell(c, S)
+    assert A.dim == n
+    X = sphere_samples(rng, k, 20000)
+    P = c + X @ S.T
+    # 20000 samples of the k-sphere: the largest angular gap is small; the support of an
+    # ellipsoid exceeds the best sample by at most ||S^T u|| (1 - cos gap) (<= 2e-2 for k = 3).
+    for u in unit_dirs(rng, n, 20):
+        gap = np.linalg.norm(S.T @ u) * (2e-2 if k == 3 else 1e-4 if k == 2 else 1e-15)
+        h, p = check_support(A, d, u, h_exact=c @ u + np.linalg.norm(S.T @ u), samples=P,
+                             sample_gap=gap + 1e-12)
+
+
+def test_ball():
+    rng = np.random.default_rng(3)
+    c = rng.standard_normal(4)
+    A = gf.Ball(c, 0.7)
+    d = T.ball(c, 0.7)
+    for u in unit_dirs(rng, 4, 20):
+        h, p = check_support(A, d, u, h_exact=c @ u + 0.7)
+        assert np.allclose(p, c + 0.7 * u, atol=1e-14)
+
+
+@pytest.mark.parametrize("n", [2, 3, 4])
+def test_box_support_exact(n):
+    """Corners enumerated: exact."""
+    rng = np.random.default_rng(300 + n)
+    half = rng.uniform(0.2, 2.0, n)
+    center = rng.standard_normal(n)
+    R = random_rotation(rng, n)
+    corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * n)).reshape(n, -1).T * half
+    for A, d, W in ((gf.Box(half), T.box(half), corners),
+                    (gf.Box(half, center=center, rotation=R), T.box(half, center, R),
+                     center + corners @ R.T)):
+        assert A.dim == n
+        for u in unit_dirs(rng, n, 30):
+            h, p = check_support(A, d, u, h_exact=np.max(W @ u))
+            assert np.min(np.linalg.norm(W - p, axis=1)) <= 1e-12 * max(1, np.abs(W).max())
+
+
+def rim_samples(rb, rt, h, m):
+    th = np.linspace(0.0, 2 * np.pi, m, endpoint=False)
+    circ = np.column_stack([np.cos(th), np.sin(th)])
+    bottom = np.column_stack([rb * circ, np.full(m, -h / 2)])
+    top = np.column_stack([rt * circ, np.full(m, h / 2)])
+    return np.vstack([bottom, top])
+
+
+@pytest.mark.parametrize("dims", [(1.0, 0.4, 2.0), (0.7, 0.7, 3.0), (1.0, 0.0, 1.5),
+                                  (0.0, 0.8, 1.0), (0.3, 1.2, 0.5)],
+                         ids=["truncated", "cylinder", "cone", "inverted-cone", "flared"])
+def test_truncated_cone_support(dims):
+    """h(u) = max(h/2 u_z + r_t q, -h/2 u_z + r_b q), q = ||(u_x, u_y)||; cylinder:
+    |u_z| h/2 + r q; cone (r_t = 0): max(h/2 u_z, -h/2 u_z + r_b q). Brute force: 2 x 10000
+    points on the rims (the set is their hull)."""
+    rb, rt, hgt = dims
+    A = gf.TruncatedCone(rb, rt, hgt)
+    d = T.tcone(rb, rt, hgt)
+    assert A.dim == 3
+    rng = np.random.default_rng(400)
+    P = rim_samples(rb, rt, hgt, 10000)
+    for u in np.vstack([unit_dirs(rng, 3, 40), np.eye(3), -np.eye(3)]):
+        q = np.hypot(u[0], u[1])
+        if rb == rt:
+            h_cf = abs(u[2]) * hgt / 2 + rb * q
+        elif rt == 0.0:
+            h_cf = max(hgt / 2 * u[2], -hgt / 2 * u[2] + rb * q)
+        else:
+            h_cf = max(hgt / 2 * u[2] + rt * q, -hgt / 2 * u[2] + rb * q)
+        # rim spacing 2 pi / 10000: gap <= r (1 - cos(pi / 10000)) < 5e-8 r
+        check_support(A, d, u, h_exact=h_cf, samples=P, sample_gap=5e-8 * max(rb, rt) + 1e-12)
+
+
+@pytest.mark.parametrize("radius,length", [(0.5, 2.0), (1.0, 0.0), (0.2, 3.0)])
+def test_capsule_support(radius, length):
+    """h(u) = |u_z| L/2 + radius ||u||; brute force: two hemispheres' worth of sphere samples
+    around both end points."""
+    A = gf.Capsule(radius, length)
+    d = T.capsule(radius, length)
+    assert A.dim == 3
+    rng = np.random.default_rng(500)
+    X = sphere_samples(rng, 3, 20000) * radius
+    P = np.vstack([X + [0, 0, length / 2], X - [0, 0, length / 2]])
+    for u in np.vstack([unit_dirs(rng, 3, 30), [[0, 0, 1.0], [0, 0, -1.0]]]):
+        u = u * 1.7          # not unit: h is positively homogeneous
+        h_cf = abs(u[2]) * length / 2 + radius * np.linalg.norm(u)
+        h, p = check_support(A, d, u, h_exact=h_cf, samples=P,
+                             sample_gap=2e-2 * radius * np.linalg.norm(u) + 1e-12)
+        assert T.capsule_contains(radius, length, p)
+
+
+def test_support_is_positively_homogeneous_and_zero_direction():
+    rng = np.random.default_rng(9)
+    c, S = random_ellipsoid(rng, 3)
+    A = gf.hull(gf.Ellipsoid(c, S), gf.Polytope(rng.standard_normal((5, 3))))
+    u = rng.standard_normal(3)
+    h1, _ = A.support(u)
+    h2, _ = A.support(3.5 * u)
+    assert abs(h2 - 3.5 * h1) <= 1e-12 * abs(h2)
+
+
+# ----------------------------------------------------------------------------------------------
+# operators
+# ----------------------------------------------------------------------------------------------
+def operator_cases():
+    rng = np.random.default_rng(600)
+    c3, S3 = random_ellipsoid(rng, 3)
+    V3 = rng.standard_normal((6, 3))
+    c4, S4 = random_ellipsoid(rng, 4, 2)
+    R = random_rotation(rng, 3)
+    p = rng.standard_normal(3)
+    cases = {
+        "hull": T.hull(T.ell(c3, S3), T.poly(V3), T.ball([2.0, 0, 0], 0.3)),
+        "sum": T.msum(T.ell(c3, S3), T.poly(V3), T.box([0.1, 0.2, 0.3])),
+        "affine_3x4": T.affine(rng.standard_normal((3, 4)), T.ell(c4, S4), t=[1.0, 2.0, 3.0]),
+        "affine_2x3": T.affine(rng.standard_normal((2, 3)), T.hull(T.poly(V3), T.ell(c3, S3))),
+        "affine_5x3": T.affine(rng.standard_normal((5, 3)), T.poly(V3), t=np.arange(5.0)),
+        "neg": T.neg(T.hull(T.ell(c3, S3), T.poly(V3))),
+        "pose_tcone": T.affine(R, T.tcone(1.0, 0.5, 2.0), t=p),
+        "pose_box": T.affine(R, T.box([0.5, 1.0, 1.5]), t=p),
+        "nested": T.hull(T.msum(T.ell(c3, S3), T.neg(T.poly(V3))),
+                         T.affine(R, T.tcone(0.3, 0.6, 1.0), t=p), T.poly(V3 + 1.0)),
+        "sum_of_hulls": T.msum(T.hull(T.poly(V3), T.ball(np.zeros(3), 1.0)),
+                               T.hull(T.ell(c3, S3), T.tcone(0.5, 0.5, 1.0))),
+    }
+    return cases
+
+
+OPS = operator_cases()
+
+
+def build_op(name, d):
+    """Like conftest.build, but -A and pose go through the library's own operators."""
+    if name == "neg":
+        return -build(d[3])
+    if name.startswith("pose"):
+        return gf.pose(build(d[3]), d[1], d[2])
+    return build(d)
+
+
+@pytest.mark.parametrize("name", sorted(OPS))
+def test_operator_support(name):
+    """Support of hull = max, of sum = sum, of M A + t = h_A(M^T u) + t.u (truth.support),
+    and every support point maps back through its witness."""
+    d = OPS[name]
+    A = build_op(name, d)
+    n = T.dim(d)
+    assert A.dim == n
+    rng = np.random.default_rng(700)
+    for u in unit_dirs(rng, n, 40):
+        check_support(A, d, u)
+
+
+def test_neg_and_pose_identities():
+    rng = np.random.default_rng(11)
+    c, S = random_ellipsoid(rng, 3)
+    B = gf.hull(gf.Ellipsoid(c, S), gf.TruncatedCone(0.5, 0.2, 1.0))
+    R = random_rotation(rng, 3)
+    p = rng.standard_normal(3)
+    N = -B
+    P = gf.pose(B, R, p)
+    for u in unit_dirs(rng, 3, 20):
+        assert abs(N.support(u)[0] - B.support(-u)[0]) <= 1e-14 * max(1, abs(B.support(-u)[0]))
+        hp = B.support(R.T @ u)[0] + p @ u
+        assert abs(P.support(u)[0] - hp) <= 1e-12 * max(1.0, abs(hp))
+
+
+def test_pose_requires_rotation_and_3d():
+    B = gf.Ball(np.zeros(3), 1.0)
+    with pytest.raises(ValueError):
+        gf.pose(gf.Ball(np.zeros(2), 1.0), np.eye(2), np.zeros(2))
+    with pytest.raises(ValueError):
+        gf.pose(B, 2.0 * np.eye(3), np.zeros(3))
+
+
+def test_dimension_mismatch_raises():
+    with pytest.raises(ValueError):
+        gf.hull(gf.Ball(np.zeros(2), 1.0), gf.Ball(np.zeros(3), 1.0))
+    with pytest.raises(ValueError):
+        gf.minkowski_sum(gf.Ball(np.zeros(2), 1.0), gf.Ball(np.zeros(3), 1.0))
+    with pytest.raises(ValueError):
+        gf.affine(np.ones((2, 4)), gf.Ball(np.zeros(3), 1.0))
+
+
+# ----------------------------------------------------------------------------------------------
+# leaves and witnesses
+# ----------------------------------------------------------------------------------------------
+def test_leaves_depth_first_and_witness_structure():
+    rng = np.random.default_rng(12)
+    P1 = gf.Polytope(rng.standard_normal((5, 3)))
+    E1 = gf.Ellipsoid(np.zeros(3), np.eye(3))
+    E2 = gf.Ellipsoid(np.ones(3), 0.5 * np.eye(3))
+    Bx = gf.Box([1.0, 2.0, 3.0])
+    TC = gf.TruncatedCone(1.0, 0.5, 1.0)
+    A = gf.minkowski_sum(gf.hull(P1, E1), gf.affine(2 * np.eye(3), gf.hull(E2, Bx)), TC)
+    leaves = A.leaves()
+    assert [type(x) for x in leaves] == [type(P1), type(E1), type(E2), type(Bx), type(TC)]
+    assert leaves[0] is P1 and leaves[1] is E1 and leaves[2] is E2 and leaves[4] is TC
+    for u in unit_dirs(rng, 3, 20):
+        h, p, wit = A.support_witness(u)
+        idx = [li for li, _ in wit]
+        # one leaf of each of the three summands: {0|1}, {2|3}, 4
+        assert len(idx) == 3 and idx[0] in (0, 1) and idx[1] in (2, 3) and idx[2] == 4, idx
+        for li, local in wit:
+            if li == 0:
+                assert isinstance(local, (int, np.integer))
+            elif li in (1, 2):
+                assert np.linalg.norm(local) <= 1 + 1e-12
+        assert np.allclose(A.witness_point(wit), p, atol=1e-12)
+    # under a hull exactly one leaf
+    H = gf.hull(P1, E1, E2)
+    for u in unit_dirs(rng, 3, 10):
+        _, p, wit = H.support_witness(u)
+        assert len(wit) == 1
+        assert np.allclose(H.witness_point(wit), p, atol=1e-12)
+
+
+def test_witness_point_is_independent_of_the_kernel():
+    """witness_point of a hand-made witness (not from a support call)."""
+    V = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    A = gf.minkowski_sum(gf.Polytope(V), gf.Ellipsoid([5.0, 5.0], np.diag([2.0, 1.0])))
+    x = np.array([0.6, -0.8])
+    p = A.witness_point(((0, 2), (1, x)))
+    assert np.allclose(p, V[2] + [5.0 + 1.2, 5.0 - 0.8], atol=1e-15)
+    B = gf.affine(np.array([[1.0, 2.0], [0.0, 1.0], [1.0, 1.0]]), A, [1.0, 1.0, 1.0])
+    q = B.witness_point(((0, 2), (1, x)))
+    assert np.allclose(q, np.array([[1.0, 2.0], [0.0, 1.0], [1.0, 1.0]]) @ p + 1.0, atol=1e-14)
