@@ -286,6 +286,8 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
         rel = np.abs(t[both] - cl_t[both]) / cl_t[both]
         t_hi = np.array([_certificate(ellipsoids, r, x) for r, x in zip(rays, res)])
         gap = (t_hi[hit] - t[hit]) / t[hit]
+        t_up = np.array([float(x.t_upper) for x in res])
+        up_err = np.abs(t_up[hit] - t_hi[hit]) / t[hit]     # library's t_upper vs ours
         try:
             pt_bad = max((_point_check(ellipsoids, r, x) for r, x, h in zip(rays, res, hit) if h),
                          default=0.0)
@@ -310,6 +312,8 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
             hit_disagree=int(np.sum(hit != (cl_t > 0))),
             max_rel=rel.max(initial=0.0), med_rel=np.median(rel) if rel.size else float("nan"),
             max_gap=np.nanmax(gap) if gap.size else float("nan"),
+            n_over=int(np.sum(gap > eps + 1e-12)),
+            t_upper_err=np.nanmax(up_err) if up_err.size else float("nan"),
             n_uncertified=int(np.sum(~np.isfinite(t_hi[hit]))),
             n_below=int(np.sum(t_hi[hit] < t[hit] * (1 - 1e-12))),
             point_bad=pt_bad, n_miss=int(miss.sum()), bad_miss=int(bad_miss),
@@ -377,12 +381,12 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
                  "max (t_hi - t) / t with t_hi = h_W(normal) / (normal . r) computed in closed form "
                  "outside graspforce (the contract says <= eps).\n")
     lines.append("| method | hit/miss disagreements with clarabel | median rel t vs clarabel "
-                 "| rays with t > certified t_hi | hits without usable normal | misses not certified (h_W(n) > 0) | point/witness check | clarabel t outside "
+                 "| hits with certified gap > eps | max abs(t_upper - t_hi) / t | rays with t > certified t_hi | hits without usable normal | misses not certified (h_W(n) > 0) | point/witness check | clarabel t outside "
                  "[t, t_hi] (rel) | statuses |")
-    lines.append("|---|---|---|---|---|---|---|---|---|")
+    lines.append("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         lines.append(f"| {r['method']} | {r['hit_disagree']} | {_fmt(r['med_rel'], '.1e')} | "
-                     f"{r['n_below']} | {r['n_uncertified']} | {r['bad_miss']}/{r['n_miss']} | {_fmt(r['point_bad'], '.1e')} | "
+                     f"{r['n_over']} | {_fmt(r['t_upper_err'], '.1e')} | {r['n_below']} | {r['n_uncertified']} | {r['bad_miss']}/{r['n_miss']} | {_fmt(r['point_bad'], '.1e')} | "
                      f"{r['clarabel_out']:.1e} | "
                      + ", ".join(f"{k}: {v}" for k, v in sorted(r["status"].items())) + " |")
     lines.append("")
@@ -404,6 +408,11 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
         else:
             lines.append(f"| {m} | {ms} | {it} | n/a | n/a | n/a |")
     lines.append("")
+    problems = check(rows, eps)
+    lines.append("Check failures:\n" if problems else "All checks passed.\n")
+    lines.extend(f"- {p}" for p in problems)
+    if problems:
+        lines.append("")
     if errors:
         lines.append("Errors:\n")
         for m, e in errors.items():
@@ -419,7 +428,7 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
         os.makedirs(os.path.dirname(out_path), exist_ok=True)
         with open(out_path, "w") as f:
             f.write(text)
-    return text, rows, errors
+    return text, rows, errors, problems
 
 
 def _witness_size(W, prog):
@@ -454,15 +463,10 @@ def main(argv=None):
     args = ap.parse_args(argv)
     n = args.n if args.n is not None else (100 if args.quick else 1000)
     methods = tuple(m.strip() for m in args.methods.split(",") if m.strip())
-    text, rows, errors = run(n, args.eps, args.seed, methods, args.out,
-                             log=lambda s: print(s, file=sys.stderr))
+    text, rows, errors, problems = run(n, args.eps, args.seed, methods, args.out,
+                                       log=lambda s: print(s, file=sys.stderr))
     print(text)
     print(f"written to {args.out}", file=sys.stderr)
-    problems = check(rows, args.eps)
-    for p in problems:
-        print(f"CHECK FAILED: {p}", file=sys.stderr)
-    for m, e in errors.items():
-        print(f"ERROR: {m}: {e}", file=sys.stderr)
     return 1 if (problems or errors) else 0
 
 
@@ -483,7 +487,11 @@ def check(rows, eps, rel_tol=1e-6):
             out.append(f"{m}: {r['bad_miss']} of {r['n_miss']} misses have a normal with "
                        f"h_W(normal) > 0 (not a separating direction)")
         if not r["max_gap"] <= eps + 1e-12:
-            out.append(f"{m}: certified relative gap {r['max_gap']:.2e} > eps = {eps:g}")
+            out.append(f"{m}: certified relative gap (t_hi - t) / t up to {r['max_gap']:.2e} > "
+                       f"eps = {eps:g} on {r['n_over']} hits")
+        if not r["t_upper_err"] <= 1e-9:
+            out.append(f"{m}: reported t_upper differs from h_W(normal) / (normal . r) by up to "
+                       f"{r['t_upper_err']:.2e} t")
         if not r["point_bad"] <= 1e-9:
             out.append(f"{m}: point/weights/witness check violated by {r['point_bad']:.2e}")
     return out

@@ -53,7 +53,7 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
         k = 1
     else:
         k, _ = corral(P, Wt, lam, k, b, b, True, D, work, rhs, wrhs, x)
-    tiny = INSIDE_TOL * (np.sqrt(np.dot(b, b)) + np.sqrt(np.dot(P[0], P[0]))) + 1e-300
+    tiny = ROUNDING * (np.sqrt(np.dot(b, b)) + np.sqrt(np.dot(P[0], P[0]))) + 1e-300
     d = np.inf
     h = 0.0
     for it in range(max_iter):
@@ -97,14 +97,15 @@ def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, n
     calls = 0
     tnorm = np.sqrt(np.dot(target, target))
     if k == 0:
-        h = support(ints, floats, target, point, wit) - np.dot(target, shift)
+        for i in range(n):
+            nvec[i] = target[i] / tnorm
+        h = support(ints, floats, nvec, point, wit) - np.dot(nvec, shift)
         calls += 1
-        if h <= 0.0:
-            # the hyperplane through `shift` with normal `target` already supports A
-            for i in range(n):
-                nvec[i] = target[i] / tnorm
-                v[i] = 0.0
-            return CONVERGED, 0, tnorm, h / tnorm, 0, calls
+        if h <= eps_abs + eps_rel * np.dot(nvec, shift):
+            # the hyperplane through `shift` with normal `target` already supports A (within
+            # the same rule as below: shift may sit a rounding error inside a vertex)
+            v[:] = 0.0
+            return CONVERGED, 0, tnorm, h, 0, calls
         P[0, :] = point
         Wt[0, :] = wit
         lam[0] = 0.0
@@ -125,14 +126,18 @@ def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, n
                 gnorm += g * g
             mass += lam[j] * np.sqrt(gnorm)
         d = 0.0
+        defect = 0.0
         for i in range(n):
             nvec[i] = target[i] - v[i]
             d += nvec[i] * nvec[i]
+            defect += nvec[i] * v[i]
         d = np.sqrt(d)
-        if d <= INSIDE_TOL * tnorm or d <= ROUNDING * mass or k == n:
-            # the residual is rounding: of the target's size, or of the sum of the terms
-            # lam_j (P_j - shift), which grows like 1/(t_{k+1} - t_k) as b_k nears z_A(r);
-            # or n independent generators span R^n. The point the shooters build from lam
+        if (d <= INSIDE_TOL * tnorm or d <= ROUNDING * mass or abs(defect) >= 0.1 * d * d
+                or k == n):
+            # The residual is rounding: of the target's size; of the terms lam_j (P_j - shift),
+            # which grow like 1/(t_{k+1} - t_k) as b_k nears z_A(r); or of an ill-conditioned
+            # cone, seen as lost orthogonality (a true projection has (target - v) ^T v = 0).
+            # Or n independent generators span R^n. The point the shooters build from lam
             # moves by d / sum(lam), far below INSIDE_TOL relative.
             return INSIDE, k, 0.0, h, it, calls
         for i in range(n):

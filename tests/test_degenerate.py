@@ -277,7 +277,7 @@ def flat_cases():
 FLAT = flat_cases()
 
 
-@pytest.mark.parametrize("case", range(len(FLAT)), ids=[c[0] for c in FLAT])
+@pytest.mark.parametrize("case", range(len(FLAT)), ids=[c[0].replace(" ", "-") for c in FLAT])
 @pytest.mark.parametrize("method", METHODS)
 def test_flat_sets(method, case, check_shot):
     label, d, r, hit, t = FLAT[case]

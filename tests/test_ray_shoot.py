@@ -57,11 +57,12 @@ def polytope_case(n, where, seed=0):
     return V, out
 
 
+@pytest.mark.parametrize("seed", [0, 1])
 @pytest.mark.parametrize("where", ["inside", "outside"])
 @pytest.mark.parametrize("n", DIMS)
 @pytest.mark.parametrize("method", METHODS)
-def test_random_polytope(method, n, where, check_shot):
-    V, rays = polytope_case(n, where)
+def test_random_polytope(method, n, where, seed, check_shot):
+    V, rays = polytope_case(n, where, seed)
     d = T.poly(V)
     A = build(d)
     for r, hit, t in rays:
@@ -193,7 +194,7 @@ def flat_ellipsoid_case(n, k):
     return S, out
 
 
-@pytest.mark.parametrize("nk", [(2, 1), (3, 1), (3, 2), (5, 3), (6, 2)])
+@pytest.mark.parametrize("nk", [(2, 1), (3, 1), (3, 2), (5, 3), (6, 2)], ids=lambda nk: f"{nk[0]}x{nk[1]}")
 @pytest.mark.parametrize("method", METHODS)
 def test_rank_deficient_ellipsoid(method, nk, check_shot):
     S, cases = flat_ellipsoid_case(*nk)
@@ -316,7 +317,7 @@ def test_hulls_and_sums(method, name, check_shot):
     for r, hit, t, tu in hull_truth(name):
         res = gf.ray_shoot(A, r, method=method)
         # conic truth (see conftest): t <= tu exactly, |t - t_true| <= 1e-9 + truth's own gap
-        truth_gap = (tu - t) / t if hit else 0.0
+        truth_gap = abs(tu - t) / t if hit else 0.0
         check_shot(A, d, r, res, hit, t, method, exact=False, t_rtol=T_RTOL + truth_gap,
                    t_true_upper=tu if hit else None)
 
@@ -370,7 +371,7 @@ def test_eps_is_relative_bound(method, eps, check_hit):
         assert hit
         res = gf.ray_shoot(A, r, method=method, eps=eps)
         # the comparison with the conic truth is limited by the truth's certified gap (tu - t)/t
-        check_hit(A, d, r, res, t, method, eps=eps, t_rtol=eps + (tu - t) / t, exact=False,
+        check_hit(A, d, r, res, t, method, eps=eps, t_rtol=eps + abs(tu - t) / t, exact=False,
                   t_true_upper=tu)
 
 
@@ -381,8 +382,8 @@ def test_default_method_and_counters(method):
     A = gf.Polytope(V)
     r = rng.standard_normal(3)
     res = gf.ray_shoot(A, r, method=method)
-    assert res.iterations >= 1 and res.support_calls >= 1
-    assert res.iterations <= 1000
+    assert res.support_calls >= 1
+    assert 0 <= res.iterations <= 1000
     default = gf.ray_shoot(A, r)
     assert default.method == "zc-ie"
     hit, t, _ = T.ray_shoot_lp(V, r)
