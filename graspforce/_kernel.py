@@ -31,35 +31,37 @@ AFFINE = 12    # params: m, n, M (m*n), t (m)
 
 
 @njit(cache=True)
-def _leaf_support(k, p, u, point, wit, w):
-    """Support of one leaf with parameters at p[...]; writes the point and the local witness."""
+def _leaf_support(k, f, p, d, wit, w):
+    """Support of one leaf: parameters at f[p:], direction at f[d:d + dim], point written to
+    f[d + dim:], local witness to wit[w + 1:]. Offsets, not slices: a slice costs a reference
+    count round trip, which at a few hundred nanoseconds a call dominates the arithmetic."""
     if k == POLYTOPE:
-        m = int(p[0])
-        n = int(p[1])
+        m = int(f[p])
+        n = int(f[p + 1])
         best = -np.inf
         arg = 0
         for j in range(m):
             s = 0.0
             for a in range(n):
-                s += p[2 + j * n + a] * u[a]
+                s += f[p + 2 + j * n + a] * f[d + a]
             if s > best:
                 best = s
                 arg = j
         for a in range(n):
-            point[a] = p[2 + arg * n + a]
+            f[d + n + a] = f[p + 2 + arg * n + a]
         wit[w + 1] = arg
         return best
     if k == ELLIPSOID:
-        n = int(p[0])
-        kk = int(p[1])
-        c0 = 2
-        s0 = 2 + n
+        n = int(f[p])
+        kk = int(f[p + 1])
+        c0 = p + 2
+        s0 = p + 2 + n
         # x = S^T u / ||S^T u||: the pre-image of the support point on the unit ball
         nrm2 = 0.0
         for b in range(kk):
             y = 0.0
             for a in range(n):
-                y += p[s0 + a * kk + b] * u[a]
+                y += f[s0 + a * kk + b] * f[d + a]
             wit[w + 1 + b] = y
             nrm2 += y * y
         nrm = np.sqrt(nrm2)
@@ -68,146 +70,149 @@ def _leaf_support(k, p, u, point, wit, w):
             wit[w + 1 + b] *= inv
         h = nrm
         for a in range(n):
-            s = p[c0 + a]
+            s = f[c0 + a]
             for b in range(kk):
-                s += p[s0 + a * kk + b] * wit[w + 1 + b]
-            point[a] = s
-            h += p[c0 + a] * u[a]
+                s += f[s0 + a * kk + b] * wit[w + 1 + b]
+            f[d + n + a] = s
+            h += f[c0 + a] * f[d + a]
         return h
     if k == BOX:
-        n = int(p[0])
+        n = int(f[p])
         h = 0.0
         for a in range(n):
-            half = p[1 + a]
-            if u[a] >= 0.0:
-                point[a] = half
-                h += half * u[a]
-            else:
-                point[a] = -half
-                h -= half * u[a]
-            wit[w + 1 + a] = point[a]
+            half = f[p + 1 + a]
+            x = half if f[d + a] >= 0.0 else -half
+            f[d + n + a] = x
+            h += x * f[d + a]
+            wit[w + 1 + a] = x
         return h
     # TRUNCATED_CONE: the hull of two coaxial disks
-    rb = p[0]
-    rt = p[1]
-    hz = 0.5 * p[2]
-    q = np.sqrt(u[0] * u[0] + u[1] * u[1])
-    h_top = hz * u[2] + rt * q
-    h_bot = -hz * u[2] + rb * q
+    rb = f[p]
+    rt = f[p + 1]
+    hz = 0.5 * f[p + 2]
+    ux = f[d]
+    uy = f[d + 1]
+    uz = f[d + 2]
+    q = np.sqrt(ux * ux + uy * uy)
+    h_top = hz * uz + rt * q
+    h_bot = -hz * uz + rb * q
     if h_top >= h_bot:
-        r = rt
-        point[2] = hz
+        rad = rt
+        z = hz
         h = h_top
     else:
-        r = rb
-        point[2] = -hz
+        rad = rb
+        z = -hz
         h = h_bot
-    if q > 0.0:
-        point[0] = r * u[0] / q
-        point[1] = r * u[1] / q
-    else:
-        point[0] = 0.0
-        point[1] = 0.0
-    for a in range(3):
-        wit[w + 1 + a] = point[a]
+    x = rad * ux / q if q > 0.0 else 0.0
+    y = rad * uy / q if q > 0.0 else 0.0
+    f[d + 3] = x
+    f[d + 4] = y
+    f[d + 5] = z
+    wit[w + 1] = x
+    wit[w + 2] = y
+    wit[w + 3] = z
     return h
 
 
 @njit(cache=True)
-def support(ints, floats, u, point, wit):
-    """h_A(u) (returned) and s_A(u) (into `point`) of eq. (2); the witness goes into `wit`."""
+def support(ints, f, u, point, wit):
+    """h_A(u) (returned) and s_A(u) (into `point`) of eq. (2); the witness goes into `wit`.
+
+    Blocks of `ints` (each nn long): 1 kind, 2 dim, 3 pstart, 4 cstart, 5 ccount, 6 wstart,
+    7 dstart, 8 choice, 9 active, then children. Node i's direction is at f[dstart:], its point
+    at f[dstart + dim:], its value at f[dstart + 2 dim].
+    """
     nn = ints[0]
-    kind = ints[1:1 + nn]
-    dim = ints[1 + nn:1 + 2 * nn]
-    pstart = ints[1 + 2 * nn:1 + 3 * nn]
-    cstart = ints[1 + 3 * nn:1 + 4 * nn]
-    ccount = ints[1 + 4 * nn:1 + 5 * nn]
-    wstart = ints[1 + 5 * nn:1 + 6 * nn]
-    dstart = ints[1 + 6 * nn:1 + 7 * nn]
-    choice = ints[1 + 7 * nn:1 + 8 * nn]
-    active = ints[1 + 8 * nn:1 + 9 * nn]
-    children = ints[1 + 9 * nn:]
-    params = floats
-    scratch = floats
-    # scratch per node i: direction at dstart[i], point at dstart[i] + dim[i], value at + 2 dim[i]
-    for a in range(dim[0]):
-        scratch[dstart[0] + a] = u[a]
+    KIND = 1
+    DIM = 1 + nn
+    PSTART = 1 + 2 * nn
+    CSTART = 1 + 3 * nn
+    CCOUNT = 1 + 4 * nn
+    WSTART = 1 + 5 * nn
+    DSTART = 1 + 6 * nn
+    CHOICE = 1 + 7 * nn
+    ACTIVE = 1 + 8 * nn
+    CHILDREN = 1 + 9 * nn
+    d0 = ints[DSTART]
+    n0 = ints[DIM]
+    for a in range(n0):
+        f[d0 + a] = u[a]
+    # directions flow down
     for i in range(nn):
-        k = kind[i]
+        k = ints[KIND + i]
         if k < HULL:
             continue
-        di = dstart[i]
-        for c in range(ccount[i]):
-            ch = children[cstart[i] + c]
-            dc = dstart[ch]
+        di = ints[DSTART + i]
+        ni = ints[DIM + i]
+        for c in range(ints[CCOUNT + i]):
+            ch = ints[CHILDREN + ints[CSTART + i] + c]
+            dc = ints[DSTART + ch]
             if k == AFFINE:
-                p0 = pstart[i]
-                m = int(params[p0])
-                n = int(params[p0 + 1])
-                for b in range(n):
+                p0 = ints[PSTART + i]
+                nc = ints[DIM + ch]
+                for b in range(nc):
                     s = 0.0
-                    for a in range(m):
-                        s += params[p0 + 2 + a * n + b] * scratch[di + a]
-                    scratch[dc + b] = s
+                    for a in range(ni):
+                        s += f[p0 + 2 + a * nc + b] * f[di + a]
+                    f[dc + b] = s
             else:
-                for a in range(dim[i]):
-                    scratch[dc + a] = scratch[di + a]
+                for a in range(ni):
+                    f[dc + a] = f[di + a]
+    # support points flow up
     for i in range(nn - 1, -1, -1):
-        k = kind[i]
-        di = dstart[i]
-        ni = dim[i]
+        k = ints[KIND + i]
+        di = ints[DSTART + i]
+        ni = ints[DIM + i]
         if k < HULL:
-            scratch[di + 2 * ni] = _leaf_support(
-                k, params[pstart[i]:], scratch[di:di + ni], scratch[di + ni:di + 2 * ni],
-                wit, wstart[i])
+            f[di + 2 * ni] = _leaf_support(k, f, ints[PSTART + i], di, wit, ints[WSTART + i])
         elif k == HULL:
             best = -np.inf
-            arg = children[cstart[i]]
-            for c in range(ccount[i]):
-                ch = children[cstart[i] + c]
-                hc = scratch[dstart[ch] + 2 * dim[ch]]
+            arg = ints[CHILDREN + ints[CSTART + i]]
+            for c in range(ints[CCOUNT + i]):
+                ch = ints[CHILDREN + ints[CSTART + i] + c]
+                hc = f[ints[DSTART + ch] + 2 * ni]
                 if hc > best:
                     best = hc
                     arg = ch
-            choice[i] = arg
-            src = dstart[arg] + ni
+            ints[CHOICE + i] = arg
+            src = ints[DSTART + arg] + ni
             for a in range(ni):
-                scratch[di + ni + a] = scratch[src + a]
-            scratch[di + 2 * ni] = best
+                f[di + ni + a] = f[src + a]
+            f[di + 2 * ni] = best
         elif k == SUM:
             for a in range(ni):
-                scratch[di + ni + a] = 0.0
+                f[di + ni + a] = 0.0
             h = 0.0
-            for c in range(ccount[i]):
-                ch = children[cstart[i] + c]
-                dc = dstart[ch]
+            for c in range(ints[CCOUNT + i]):
+                dc = ints[DSTART + ints[CHILDREN + ints[CSTART + i] + c]]
                 for a in range(ni):
-                    scratch[di + ni + a] += scratch[dc + ni + a]
-                h += scratch[dc + 2 * ni]
-            scratch[di + 2 * ni] = h
+                    f[di + ni + a] += f[dc + ni + a]
+                h += f[dc + 2 * ni]
+            f[di + 2 * ni] = h
         else:
-            ch = children[cstart[i]]
-            dc = dstart[ch]
-            nc = dim[ch]
-            p0 = pstart[i]
-            h = scratch[dc + 2 * nc]
+            ch = ints[CHILDREN + ints[CSTART + i]]
+            dc = ints[DSTART + ch]
+            nc = ints[DIM + ch]
+            p0 = ints[PSTART + i]
+            h = f[dc + 2 * nc]
             for a in range(ni):
-                s = params[p0 + 2 + ni * nc + a]
-                h += s * scratch[di + a]
+                s = f[p0 + 2 + ni * nc + a]
+                h += s * f[di + a]
                 for b in range(nc):
-                    s += params[p0 + 2 + a * nc + b] * scratch[dc + nc + b]
-                scratch[di + ni + a] = s
-            scratch[di + 2 * ni] = h
+                    s += f[p0 + 2 + a * nc + b] * f[dc + nc + b]
+                f[di + ni + a] = s
+            f[di + 2 * ni] = h
     # flag the leaves that produced the point: every child of a sum, the chosen child of a hull
-    active[0] = 1
+    ints[ACTIVE] = 1
     for i in range(nn):
-        k = kind[i]
+        k = ints[KIND + i]
         if k < HULL:
-            wit[wstart[i]] = active[i]
+            wit[ints[WSTART + i]] = ints[ACTIVE + i]
             continue
-        for c in range(ccount[i]):
-            ch = children[cstart[i] + c]
-            active[ch] = active[i] if (k != HULL or ch == choice[i]) else 0
-    for a in range(dim[0]):
-        point[a] = scratch[dstart[0] + dim[0] + a]
-    return scratch[dstart[0] + 2 * dim[0]]
+        for c in range(ints[CCOUNT + i]):
+            ch = ints[CHILDREN + ints[CSTART + i] + c]
+            ints[ACTIVE + ch] = ints[ACTIVE + i] if (k != HULL or ch == ints[CHOICE + i]) else 0
+    for a in range(n0):
+        point[a] = f[d0 + n0 + a]
+    return f[d0 + 2 * n0]

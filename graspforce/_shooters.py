@@ -1,10 +1,11 @@
 """The compiled ray-shooting procedures of section 3.
 
 Every procedure returns the same tuple, packed by `_result`:
-    (status, t, t_upper, h_n, iterations, support_calls, normal, V, weights, W)
+    (status, t, t_upper, h_n, iterations, support_calls, normal, V, weights, W, singular)
 with z = t r a convex combination `weights` of the rows of V (points of A, witnesses in W), and
 the hyperplane {x : normal^T x = h_n} supporting A (h_n = h_A(normal)) crossing the ray at
-t_upper r. On a miss, normal separates: h_A(normal) < 0 < normal^T r.
+t_upper r. `singular` counts the iterations spent on a face of dimension < n - 1 (IE's
+collections, ZC-IE's hand-overs to ZC-based steps). On a miss, normal separates: h_A(normal) < 0 < normal^T r.
 
 Tolerance: every stopping rule is relative, (h_A(n) - n^T z) <= eps * n^T z, i.e.
 (t_upper - t) / t <= eps, so eps bounds the relative error in t whatever the units of A
@@ -21,6 +22,11 @@ from ._linalg import lstsq, lu_factor, lu_solve, lu_solve_t
 HIT = 0
 MISS = 1
 LIMIT = 2
+FACET = 3   # internal: ZC-based iterations reached a facet the ray crosses (IE takes over)
+
+ZC_ONLY = 0
+WITH_IE = 1
+UNTIL_FACET = 2
 
 GJK_BASED = 0
 IE = 1
@@ -30,9 +36,9 @@ ZC_IE = 4
 
 
 @njit(cache=True)
-def _result(status, t, t_up, h_n, iters, calls, normal, P, lam, Wt, k):
+def _result(status, t, t_up, h_n, iters, calls, normal, P, lam, Wt, k, singular):
     return (status, t, t_up, h_n, iters, calls, normal.copy(), P[:k].copy(), lam[:k].copy(),
-            Wt[:k].copy())
+            Wt[:k].copy(), singular)
 
 
 @njit(cache=True)
@@ -58,7 +64,7 @@ def _miss(ints, floats, r, ws, iters, calls, max_iter):
     st, k, d, h, it, c = zc(ints, floats, np.zeros(n), r, P, Wt, lam, 0, 0.0, 0.0, max_iter,
                             nvec, v, point, wit)
     status = MISS if st != MAX_ITER else LIMIT
-    return _result(status, 0.0, 0.0, h, iters + it, calls + c, nvec, P, lam, Wt, 0)
+    return _result(status, 0.0, 0.0, h, iters + it, calls + c, nvec, P, lam, Wt, 0, 0)
 
 
 @njit(cache=True)
@@ -134,11 +140,11 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
             # b_k = t r is in A: it met the boundary, or rounding in v_A(b_{k-1}) put it inside.
             # Done if the last supporting hyperplane certifies it, else go on from inside.
             if t_up - t <= eps * t:
-                return _result(HIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k)
-            return zc_from(ints, floats, r, ws, eps, max_iter, False, t, P, Wt, lam, k, it + 1,
+                return _result(HIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
+            return zc_from(ints, floats, r, ws, eps, max_iter, ZC_ONLY, t, P, Wt, lam, k, it + 1,
                            calls)
         if st == MAX_ITER:
-            return _result(LIMIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k)
+            return _result(LIMIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
         rn = np.dot(r, nvec)
         if rn <= 0.0:
             return _miss(ints, floats, r, ws, it + 1, calls, max_iter)
@@ -156,8 +162,8 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
         if st == CONVERGED and _on_ray(P, k, t * r, x, 1e-12):
             for j in range(k):
                 lam[j] = x[j]
-            return _result(HIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k)
-    return _result(LIMIT, t, t_up, best_h, max_iter, calls, best_n, P, lam, Wt, k)
+            return _result(HIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
+    return _result(LIMIT, t, t_up, best_h, max_iter, calls, best_n, P, lam, Wt, k, 0)
 
 
 @njit(cache=True)
@@ -182,18 +188,22 @@ def _restart(P, Wt, lam, k):
 
 
 @njit(cache=True)
-def zc_family(ints, floats, r, ws, eps, max_iter, use_ie):
+def zc_family(ints, floats, r, ws, eps, max_iter, mode):
     """Section 3.3 (ZC-based) and, with use_ie, section 3.4.2 (ZC-IE): ZC-based iterations, and
     whenever V_k has n points (a facet whose interior the ray crosses) plain IE steps."""
     n = r.shape[0]
-    return zc_from(ints, floats, r, ws, eps, max_iter, use_ie, 0.0, np.empty((n + 2, n)),
+    return zc_from(ints, floats, r, ws, eps, max_iter, mode, 0.0, np.empty((n + 2, n)),
                    np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0)
 
 
 @njit(cache=True)
-def zc_from(ints, floats, r, ws, eps, max_iter, use_ie, t, Pz, Wz, lz, kz, it, calls):
-    """ZC-based / ZC-IE iterations from b = t r in A, the convex combination lz of Pz[:kz]
-    (t = 0, kz = 0: from the origin, which first decides whether the ray meets A)."""
+def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls):
+    """ZC-based iterations from b = t r in A, the convex combination lz of Pz[:kz] (t = 0,
+    kz = 0: from the origin, which first decides whether the ray meets A). mode: ZC_ONLY
+    (section 3.3), WITH_IE (ZC-IE, section 3.4.2: plain IE steps while V_k is a facet), or
+    UNTIL_FACET (return FACET with V_k as soon as it is a facet: IE's initialization)."""
+    use_ie = mode == WITH_IE
+    singular = 0
     n = r.shape[0]
     P = np.empty((n + 2, n))
     Wt = np.empty((n + 2, ws))
@@ -244,6 +254,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, use_ie, t, Pz, Wz, lz, kz, it, c
                         k = drop_point(P, Wt, lam, k, j)
                     j -= 1
                 k = _restart(P, Wt, lam, k)
+                singular += 1
             else:
                 t = 1.0 / yr
                 for j in range(n):
@@ -256,7 +267,8 @@ def zc_from(ints, floats, r, ws, eps, max_iter, use_ie, t, Pz, Wz, lz, kz, it, c
                 calls += 1
                 it += 1
                 if h - 1.0 / ny <= eps * (1.0 / ny):
-                    return _result(HIT, t, h * ny / yr, h, it, calls, nvec, Pz, lz, Wz, kz)
+                    return _result(HIT, t, h * ny / yr, h, it, calls, nvec, Pz, lz, Wz, kz,
+                                   singular)
                 # ratio test: the new facet the ray crosses replaces the vertex j*
                 lu_solve(lu, piv, n, point, alpha)
                 js = 0
@@ -283,6 +295,8 @@ def zc_from(ints, floats, r, ws, eps, max_iter, use_ie, t, Pz, Wz, lz, kz, it, c
             for j in range(k):
                 lam[j] /= sigma
             kz = _keep(P, Wt, lam, k, Pz, Wz, lz)
+            if mode == UNTIL_FACET and k == n:
+                return _result(FACET, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz, 0)
             if not (use_ie and k == n):
                 k = _restart(P, Wt, lam, k)
             continue
@@ -291,11 +305,12 @@ def zc_from(ints, floats, r, ws, eps, max_iter, use_ie, t, Pz, Wz, lz, kz, it, c
         if t == 0.0:
             # CONVERGED here means h_A(n) <= 0 < n^T r: a certified miss. STALLED means r lies
             # on the boundary of CO(A) to rounding: the ray at most grazes A, reported a miss.
-            return _result(MISS, 0.0, 0.0, h, it, calls, nvec, P, lam, Wt, 0)
+            return _result(MISS, 0.0, 0.0, h, it, calls, nvec, P, lam, Wt, 0, 0)
         # converged (or stalled at rounding): z = b_k, supported by H(n, s_A(n))
         h_n = h + t * np.dot(nvec, r)
-        return _result(HIT, t, h_n / np.dot(nvec, r), h_n, it, calls, nvec, Pz, lz, Wz, kz)
-    return _result(LIMIT, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz)
+        return _result(HIT, t, h_n / np.dot(nvec, r), h_n, it, calls, nvec, Pz, lz, Wz, kz,
+                       singular)
+    return _result(LIMIT, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz, singular)
 
 
 @njit(cache=True)
@@ -320,7 +335,7 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
     if st != INSIDE:
         # as in zc_from at t = 0: a certified miss, or r on the boundary of CO(A) to rounding
         return _result(MISS if st != MAX_ITER else LIMIT, 0.0, 0.0, h, 1, calls, nvec, P,
-                       lam, Wt, 0)
+                       lam, Wt, 0, 0)
     sigma = lam[:k].sum()
     t_lo = 1.0 / sigma
     for j in range(k):
@@ -333,10 +348,10 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
     t_up = t_hi
     for it in range(max_iter):
         if t_up - t_lo <= eps * t_lo:
-            return _result(HIT, t_lo, t_up, best_h, it + 1, calls, best_n, Pz, lz, Wz, kz)
+            return _result(HIT, t_lo, t_up, best_h, it + 1, calls, best_n, Pz, lz, Wz, kz, 0)
         if t_hi - t_lo <= 1e-3 * eps * t_lo:
             # the bracket closed on points GJK could not certify: finish from inside
-            return zc_from(ints, floats, r, ws, eps, max_iter, False, t_lo, Pz, Wz, lz, kz,
+            return zc_from(ints, floats, r, ws, eps, max_iter, ZC_ONLY, t_lo, Pz, Wz, lz, kz,
                            it + 1, calls)
         tm = 0.5 * (t_lo + t_hi)
         b = tm * r
@@ -363,16 +378,5 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
         if st == CONVERGED and t_b > t_lo and _on_ray(P, k, t_b * r, x, 1e-12):
             t_lo = t_b
             kz = _keep(P, Wt, x, k, Pz, Wz, lz)
-    return _result(LIMIT, t_lo, t_up, best_h, max_iter, calls, best_n, Pz, lz, Wz, kz)
+    return _result(LIMIT, t_lo, t_up, best_h, max_iter, calls, best_n, Pz, lz, Wz, kz, 0)
 
-
-@njit(cache=True)
-def shoot(ints, floats, r, ws, method, eps, max_iter):
-    """One entry point from Python for every procedure (one dispatch, one compilation)."""
-    if method == GJK_BASED:
-        return gjk_based(ints, floats, r, ws, eps, max_iter)
-    if method == BI_GJK:
-        return bi_gjk(ints, floats, r, ws, eps, max_iter)
-    if method == IE:
-        return zc_family(ints, floats, r, ws, eps, max_iter, True)
-    return zc_family(ints, floats, r, ws, eps, max_iter, method == ZC_IE)

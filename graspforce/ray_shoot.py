@@ -2,6 +2,7 @@
 import numpy as np
 
 from . import _shooters as S
+from ._dispatch import shoot
 from ._validate import finite_array, finite_scalar, positive_int
 from .results import RayShot
 from .sets import ConvexSet
@@ -36,16 +37,16 @@ def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=1000):
     r, eps, max_iter = check_ray_input(A, r, eps, max_iter)
     ints, floats = A.program
     code = METHODS[method]
-    out = S.shoot(ints, floats, r, A.witness_size, code, eps, max_iter)
+    out = shoot(ints, floats, r, A.witness_size, code, eps, max_iter)
     return make_ray_shot(A, r, method, out)
 
 
 def make_ray_shot(A, r, method, out):
-    status, t, t_up, h_n, iters, calls, normal, V, weights, W = out
+    status, t, t_up, h_n, iters, calls, normal, V, weights, W, singular = out
     hit = status == S.HIT
     return RayShot(
         hit=hit, status=_STATUS[status], method=method, t=t, t_upper=t_up, point=t * r,
-        vertices=V, weights=weights, witnesses=tuple(A.decode_witness(w) for w in W),
+        vertices=V, weights=weights, witness_rows=W, convex_set=A,
         normal=normal, support_value=h_n,
         error_bound=(t_up - t) * float(np.sqrt(r @ r)) if hit else np.inf,
-        iterations=int(iters), support_calls=int(calls))
+        iterations=int(iters), support_calls=int(calls), singular_steps=int(singular))

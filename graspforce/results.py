@@ -1,6 +1,7 @@
 """Result records. Each carries the bounds that certify it, so it can be checked without
 trusting the code that made it."""
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -15,6 +16,9 @@ class RayShot:
     lies between t r and t_upper r and ||z_A(r) - point|| <= error_bound = (t_upper - t) ||r||.
     On a miss, normal^T r > 0 >= support_value certifies that the ray and A do not meet
     (support_value is exactly 0 only for a ray grazing CO(A) to rounding).
+    singular_steps counts the iterations in which the ray crossed the inner polytope through a
+    face of dimension < n - 1: IE's facet-collection steps, ZC-IE's hand-overs to ZC-based
+    iterations (section 3.2, 3.4.2); 0 for the other methods.
     """
     hit: bool
     status: str
@@ -24,12 +28,20 @@ class RayShot:
     point: np.ndarray
     vertices: np.ndarray
     weights: np.ndarray
-    witnesses: tuple
+    witness_rows: np.ndarray = field(repr=False)   # raw witness vectors, one row per vertex
+    convex_set: object = field(repr=False)
     normal: np.ndarray
     support_value: float
     error_bound: float
     iterations: int
     support_calls: int
+    singular_steps: int
+
+    @cached_property
+    def witnesses(self):
+        """One decoded witness per vertex: ((leaf_index, local), ...) (decoded on first use, so
+        that a caller who needs only t pays nothing for it)."""
+        return tuple(self.convex_set.decode_witness(w) for w in self.witness_rows)
 
 
 @dataclass(frozen=True)
