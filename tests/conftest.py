@@ -126,7 +126,8 @@ def _check_hit(A, d, r, res, t_true, method, eps=1e-9, t_rtol=T_RTOL, exact=True
     # vertices, weights, witnesses
     V = np.asarray(res.vertices, dtype=float)
     w = np.asarray(res.weights, dtype=float)
-    assert V.ndim == 2 and V.shape[1] == n and 1 <= V.shape[0] <= n + 1, f"{ctx}: vertices {V.shape}"
+    assert V.ndim == 2 and V.shape[1] == n and 1 <= V.shape[0] <= n + 1, \
+        f"{ctx}: vertices {V.shape}"
     assert w.shape == (V.shape[0],), ctx
     assert np.all(w >= -1e-14), f"{ctx}: weights {w}"
     assert abs(w.sum() - 1.0) <= 1e-12, f"{ctx}: sum of weights {w.sum()!r}"
@@ -150,7 +151,8 @@ def _check_hit(A, d, r, res, t_true, method, eps=1e-9, t_rtol=T_RTOL, exact=True
     assert abs(float(res.support_value) - h_mine) <= 1e-12 * hs, \
         f"{ctx}: support_value = {res.support_value!r} vs h_A(n) = {h_mine!r}"
     assert h_lib - nrm @ point <= (t_up - t) * nr + 1e-12 * hs, \
-        f"{ctx}: h_A(n) - n.point = {h_lib - nrm @ point:.3e} > (t_upper - t) n.r = {(t_up - t) * nr:.3e}"
+        f"{ctx}: h_A(n) - n.point = {h_lib - nrm @ point:.3e} > " \
+        f"(t_upper - t) n.r = {(t_up - t) * nr:.3e}"
     # independent certificate of the relative error: with the independent support function,
     # t_true <= h(n)/(n.r) and t r in A, so (t_true - t)/t <= (h(n) - n.z)/(n.z) <= eps.
     nz = float(nrm @ point)

@@ -50,7 +50,8 @@ def check_cone_result(A, d, b, res, d_true, v_true, tol=D_TOL, label=""):
         # projection inequality for the convex cone: ||v - v*||^2 <= ||v - b||^2 - d*^2
         bound = np.sqrt(max(dist ** 2 - d_true ** 2, 0.0)) + tol * scale
         assert np.linalg.norm(v - v_true) <= bound, \
-            f"{ctx}: point {v} vs truth {v_true} (diff {np.linalg.norm(v - v_true):.3e} > {bound:.1e})"
+            f"{ctx}: point {v} vs truth {v_true} " \
+            f"(diff {np.linalg.norm(v - v_true):.3e} > {bound:.1e})"
     # the normal: unit, from v to b, and (nearly) separating: h_A(n) <= eps
     assert abs(np.linalg.norm(nrm) - 1.0) <= 1e-12, ctx
     assert np.linalg.norm(nrm - (b - v) / dist) <= 1e-10, f"{ctx}: normal {nrm}"

@@ -194,7 +194,8 @@ def flat_ellipsoid_case(n, k):
     return S, out
 
 
-@pytest.mark.parametrize("nk", [(2, 1), (3, 1), (3, 2), (5, 3), (6, 2)], ids=lambda nk: f"{nk[0]}x{nk[1]}")
+@pytest.mark.parametrize("nk", [(2, 1), (3, 1), (3, 2), (5, 3), (6, 2)],
+                         ids=lambda nk: f"{nk[0]}x{nk[1]}")
 @pytest.mark.parametrize("method", METHODS)
 def test_rank_deficient_ellipsoid(method, nk, check_shot):
     S, cases = flat_ellipsoid_case(*nk)

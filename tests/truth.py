@@ -170,7 +170,8 @@ def _leaf_point(leaf, local, tol):
         if x.size != S.shape[1]:
             raise WitnessError(f"ellipsoid witness of size {x.size}, expected {S.shape[1]}")
         if np.linalg.norm(x) > 1 + tol:
-            raise WitnessError(f"ellipsoid witness outside the unit ball: ||x|| = {np.linalg.norm(x)!r}")
+            raise WitnessError("ellipsoid witness outside the unit ball: "
+                               f"||x|| = {np.linalg.norm(x)!r}")
         return c + S @ x
     if k == "box":
         half, center, R = leaf[1], leaf[2], leaf[3]
@@ -650,7 +651,8 @@ def closest_point_ellipsoid(c, S, b):
 
 
 def cone_distance_nnls(V, b):
-    """Distance from b to the cone of the rows of V (scipy NNLS). Returns (distance, point, coef)."""
+    """Distance from b to the cone of the rows of V (scipy NNLS).
+    Returns (distance, point, coef)."""
     V = np.asarray(V, dtype=float)
     b = np.asarray(b, dtype=float)
     coef, rnorm = scipy.optimize.nnls(V.T, b, maxiter=50 * V.shape[0])
