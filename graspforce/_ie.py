@@ -42,6 +42,35 @@ def _facet(pool, idx, r, M, lu, piv, ones, y, gam):
 
 
 @njit(cache=True)
+def _ratio_test(pool, facet, gam, s, M, lu, piv, alpha):
+    """The vertex j* that s replaces so that the ray still crosses the facet: with
+    s = sum alpha_l a_l, j* minimizes gam_j / alpha_j over alpha_j > 0. -1 on a tie (the ray
+    would cross a lower-dimensional face: the general step handles it) or a singular facet."""
+    n = s.shape[0]
+    for j in range(n):
+        for i in range(n):
+            M[i, j] = pool[facet[j], i]
+    if not lu_factor(M, n, lu, piv):
+        return -1
+    lu_solve(lu, piv, n, s, alpha)
+    js = -1
+    best = np.inf
+    second = np.inf
+    for j in range(n):
+        if alpha[j] > 0.0:
+            ratio = gam[j] / alpha[j]
+            if ratio < best:
+                second = best
+                best = ratio
+                js = j
+            elif ratio < second:
+                second = ratio
+    if js >= 0 and second <= best * (1.0 + 1e-9):
+        return -1
+    return js
+
+
+@njit(cache=True)
 def _contains(F, g, ridge, m):
     """Whether facet row F[g] holds all m indices of `ridge`."""
     n = F.shape[1]
@@ -131,6 +160,21 @@ def ie(ints, floats, r, ws, eps, max_iter):
             visible[f] = np.dot(Y[f], point) > 1.0 + BEYOND_TOL
             all_visible = all_visible and visible[f]
         nf2 = 0
+        if nf == 1 and GAM[0].min() > FACE_TOL * GAM[0].sum():
+            # b_k inside the single facet (the usual case): the ratio test of the simplex
+            # method picks the new facet with one solve instead of n factorizations
+            js = _ratio_test(pool, F[0], GAM[0], point, M, lu, piv, y)
+            if js >= 0:
+                idx[:] = F[0]
+                idx[js] = q
+                if _facet(pool, idx, r, M, lu, piv, ones, y, gam):
+                    yr = np.dot(y, r)
+                    if gam.min() > FACE_TOL * yr:
+                        F[0] = idx
+                        Y[0] = y
+                        GAM[0] = gam
+                        t = 1.0 / yr
+                        continue
         if all_visible:
             # case 1: replace each vertex of S_k in each facet by s; keep the farthest crossing
             t_best = t
