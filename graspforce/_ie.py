@@ -71,6 +71,17 @@ def _ratio_test(pool, facet, gam, s, M, lu, piv, alpha):
 
 
 @njit(cache=True)
+def _push(F, Y, GAM, nf, idx, y, gam):
+    """Append a facet to a collection; -1 when the collection is full."""
+    if nf == F.shape[0]:
+        return -1
+    F[nf] = idx
+    Y[nf] = y
+    GAM[nf] = gam
+    return nf + 1
+
+
+@njit(cache=True)
 def _contains(F, g, ridge, m):
     """Whether facet row F[g] holds all m indices of `ridge`."""
     n = F.shape[1]
@@ -197,13 +208,10 @@ def ie(ints, floats, r, ws, eps, max_iter):
                         # strictly farther: the earlier candidates cross elsewhere
                         t_best = tc
                         nf2 = 0
-                    if nf2 == cap_f:
+                    nf2 = _push(F2, Y2, GAM2, nf2, idx, y, gam)
+                    if nf2 < 0:
                         return _ie_result(LIMIT, t, pool, pwit, F[best], GAM[best], nvec, h,
                                           ny, r, it, calls, singular)
-                    F2[nf2] = idx
-                    Y2[nf2] = y
-                    GAM2[nf2] = gam
-                    nf2 += 1
             if nf2 == 0:
                 # rounding left no candidate crossing the ray: finish with ZC-based iterations
                 return _from_facet(ints, floats, r, ws, eps, max_iter, t, pool, pwit, F[best],
@@ -214,10 +222,7 @@ def ie(ints, floats, r, ws, eps, max_iter):
             # and border a facet s does not see
             for f in range(nf):
                 if not visible[f]:
-                    F2[nf2] = F[f]
-                    Y2[nf2] = Y[f]
-                    GAM2[nf2] = GAM[f]
-                    nf2 += 1
+                    nf2 = _push(F2, Y2, GAM2, nf2, F[f], Y[f], GAM[f])
             for f in range(nf):
                 if not visible[f]:
                     continue
@@ -241,13 +246,10 @@ def ie(ints, floats, r, ws, eps, max_iter):
                     idx[a] = q
                     if not _facet(pool, idx, r, M, lu, piv, ones, y, gam):
                         continue
-                    if nf2 == cap_f:
+                    nf2 = _push(F2, Y2, GAM2, nf2, idx, y, gam)
+                    if nf2 < 0:
                         return _ie_result(LIMIT, t, pool, pwit, F[best], GAM[best], nvec, h,
                                           ny, r, it, calls, singular)
-                    F2[nf2] = idx
-                    Y2[nf2] = y
-                    GAM2[nf2] = gam
-                    nf2 += 1
             if nf2 == 0:
                 return _from_facet(ints, floats, r, ws, eps, max_iter, t, pool, pwit, F[best],
                                    GAM[best], it, calls)

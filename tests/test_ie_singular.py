@@ -4,24 +4,8 @@ vertices and edge midpoints of random polytopes put b_k on such faces; the paper
 convergence there, checked against an LP."""
 import numpy as np
 import pytest
-from scipy.optimize import linprog
-
 import graspforce as gf
-
-
-def lp_ray_shoot(V, r):
-    """max t s.t. t r = V^T lam, lam >= 0, sum lam = 1 (scipy HiGHS)."""
-    m, n = V.shape
-    c = np.zeros(m + 1)
-    c[0] = -1.0
-    A_eq = np.zeros((n + 1, m + 1))
-    A_eq[:n, 0] = r
-    A_eq[:n, 1:] = -V.T
-    A_eq[n, 1:] = 1.0
-    lp = linprog(c, A_eq=A_eq, b_eq=np.r_[np.zeros(n), 1.0], bounds=[(0, None)] * (m + 1),
-                 method="highs")
-    assert lp.status == 0
-    return lp.x[0]
+import truth as T
 
 
 @pytest.mark.parametrize("n", [2, 3, 4, 6])
@@ -33,7 +17,8 @@ def test_ie_converges_through_low_dimensional_faces(n):
         V -= V.mean(axis=0)
         order = np.argsort(V @ rng.standard_normal(n))
         for r in (V[order[-1]], 0.5 * (V[order[-1]] + V[order[-2]])):
-            t_true = lp_ray_shoot(V, r)
+            hit, t_true, _ = T.ray_shoot_lp(V, r)
+            assert hit
             res = gf.ray_shoot(gf.Polytope(V), r, method="ie")
             assert res.status == "hit"
             assert abs(res.t - t_true) <= 1e-12 * t_true, (r, res.t, t_true)
