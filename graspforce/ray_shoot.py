@@ -1,4 +1,6 @@
 """gf.ray_shoot: z_A(r), Z_A(r) and a supporting hyperplane by the five procedures of section 3."""
+import math
+
 import numpy as np
 
 from . import _shooters as S
@@ -15,13 +17,22 @@ _STATUS = {S.HIT: "hit", S.MISS: "miss", S.LIMIT: "max_iter"}
 def check_ray_input(A, r, eps, max_iter):
     if not isinstance(A, ConvexSet):
         raise TypeError(f"A: expected a graspforce convex set, got {type(A).__name__}")
-    r = finite_array(r, "r", ndim=1)
-    if r.shape[0] != A.dim:
-        raise ValueError(f"r: must have the set's dimension {A.dim}, got {r.shape[0]}")
-    if not np.any(r):
+    if not (type(r) is np.ndarray and r.dtype == np.float64 and r.shape == (A.dim,)):
+        r = finite_array(r, "r", ndim=1)
+        if r.shape[0] != A.dim:
+            raise ValueError(f"r: must have the set's dimension {A.dim}, got {r.shape[0]}")
+    # one dot product screens both rules: r.r is NaN or inf iff an entry is, and 0 iff r = 0
+    rr = float(r @ r)
+    if not math.isfinite(rr):
+        finite_array(r, "r")                       # raises, naming the rule
+        raise ValueError("r: too large: |r|^2 overflows; scale the ray")
+    if rr == 0.0:
         raise ValueError("r: the ray direction must be nonzero")
-    eps = finite_scalar(eps, "eps", minimum=0.0, exclusive=True)
-    return r, eps, positive_int(max_iter, "max_iter")
+    if type(eps) is not float or not 0.0 < eps < math.inf:
+        eps = finite_scalar(eps, "eps", minimum=0.0, exclusive=True)
+    if type(max_iter) is not int or max_iter < 1:
+        max_iter = positive_int(max_iter, "max_iter")
+    return r, eps, max_iter
 
 
 def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=1000):
@@ -48,5 +59,5 @@ def make_ray_shot(A, r, method, out):
         hit=hit, status=_STATUS[status], method=method, t=t, t_upper=t_up, point=t * r,
         vertices=V, weights=weights, witness_rows=W, convex_set=A,
         normal=normal, support_value=h_n,
-        error_bound=(t_up - t) * float(np.sqrt(r @ r)) if hit else np.inf,
+        error_bound=(t_up - t) * math.sqrt(r @ r) if hit else math.inf,
         iterations=int(iters), support_calls=int(calls), singular_steps=int(singular))

@@ -6,7 +6,7 @@ from functools import cached_property
 import numpy as np
 
 
-@dataclass(frozen=True)
+@dataclass
 class RayShot:
     """The answer to the ray-shooting problem of section 2.1 for A and R(r).
 
@@ -16,6 +16,8 @@ class RayShot:
     lies between t r and t_upper r and ||z_A(r) - point|| <= error_bound = (t_upper - t) ||r||.
     On a miss, normal^T r > 0 >= support_value certifies that the ray and A do not meet
     (support_value is exactly 0 only for a ray grazing CO(A) to rounding).
+    A plain (not frozen) dataclass: freezing costs a microsecond per result on the hot path;
+    treat it as read-only.
     singular_steps counts the iterations in which the ray crossed the inner polytope through a
     face of dimension < n - 1: IE's facet-collection steps, ZC-IE's hand-overs to ZC-based
     iterations (section 3.2, 3.4.2); 0 for the other methods.

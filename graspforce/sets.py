@@ -43,8 +43,12 @@ class ConvexSet:
 
     @property
     def witness_size(self):
-        self.program
-        return int(sum(size for _, size in self._witness_slots))
+        """Length of a raw witness vector: one slot [active, local...] per leaf."""
+        size = self.__dict__.get("_witness_size")
+        if size is None:
+            self.program
+            size = self._witness_size = int(sum(size for _, size in self._witness_slots))
+        return size
 
     def support(self, u):
         """(h_A(u), s_A(u)) of eq. (2)."""
