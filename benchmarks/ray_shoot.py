@@ -470,8 +470,12 @@ def main(argv=None):
     return 1 if (problems or errors) else 0
 
 
-def check(rows, eps, rel_tol=1e-6):
-    """The pass/fail checks on the rows of `run`: a list of human-readable failures."""
+def check(rows, eps, clarabel_tol=1e-6):
+    """The pass/fail checks on the rows of `run`: a list of human-readable failures.
+
+    Agreement with Clarabel is expected to max(eps, clarabel_tol): our t is certified to eps
+    relative, Clarabel's (default tolerances) to about 1e-6."""
+    rel_tol = max(eps, clarabel_tol)
     out = []
     for r in rows:
         m = r["method"]
