@@ -349,7 +349,7 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
     paper_row = {m: p5[i] for i, m in enumerate(pm)}
 
     lines = []
-    lines.append(f"## Ray shooting on the ingot grasp, min sigma_L1 (W_L1 = CH(W_1..W_4), R^6)\n")
+    lines.append("## Ray shooting on the ingot grasp, min sigma_L1 (W_L1 = CH(W_1..W_4), R^6)\n")
     lines.append(f"{n_wrenches} random wrenches (seed {seed}), eps = {eps:g} (relative), "
                  f"every call timed alone from Python after a warm-up pass; "
                  f"ratio = clarabel (update) median / method median.\n")

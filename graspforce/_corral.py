@@ -6,7 +6,6 @@ Lawson-Hanson for the cone): solve the unconstrained least-squares problem on th
 if a weight is not positive, step back to the boundary and drop that point. Unlike Johnson's
 recursion it is exact in any dimension and never enumerates sub-simplices.
 """
-import numpy as np
 from numba import njit
 
 from ._linalg import lstsq

@@ -5,7 +5,8 @@ Every procedure returns the same tuple, packed by `_result`:
 with z = t r a convex combination `weights` of the rows of V (points of A, witnesses in W), and
 the hyperplane {x : normal^T x = h_n} supporting A (h_n = h_A(normal)) crossing the ray at
 t_upper r. `singular` counts the iterations spent on a face of dimension < n - 1 (IE's
-collections, ZC-IE's hand-overs to ZC-based steps). On a miss, normal separates: h_A(normal) < 0 < normal^T r.
+collections, ZC-IE's hand-overs to ZC-based steps). On a miss, normal separates:
+h_A(normal) <= 0 < normal^T r.
 
 Tolerance: every stopping rule is relative, (h_A(n) - n^T z) <= eps * n^T z, i.e.
 (t_upper - t) / t <= eps, so eps bounds the relative error in t whatever the units of A
@@ -189,8 +190,8 @@ def _restart(P, Wt, lam, k):
 
 @njit(cache=True)
 def zc_family(ints, floats, r, ws, eps, max_iter, mode):
-    """Section 3.3 (ZC-based) and, with use_ie, section 3.4.2 (ZC-IE): ZC-based iterations, and
-    whenever V_k has n points (a facet whose interior the ray crosses) plain IE steps."""
+    """Section 3.3 (ZC-based) and, with mode WITH_IE, section 3.4.2 (ZC-IE): ZC-based
+    iterations, and plain IE steps whenever V_k has n points (a facet the ray crosses inside)."""
     n = r.shape[0]
     return zc_from(ints, floats, r, ws, eps, max_iter, mode, 0.0, np.empty((n + 2, n)),
                    np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0)
