@@ -377,16 +377,21 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
                  + f" max |h_W - closed form| over 200 directions: {sup_check:.1e}.")
     lines.append("")
     lines.append("Checks (hit rays): `max rel t vs clarabel` = max |t - t_clarabel| / t_clarabel "
-                 "(Clarabel's default tolerances give ~1e-8..1e-6). `max certified gap` = "
+                 "(must be <= max(eps, 1e-6); Clarabel's default tolerances give ~1e-8..1e-6). "
+                 "`max certified gap` = "
                  "max (t_hi - t) / t with t_hi = h_W(normal) / (normal . r) computed in closed form "
                  "outside graspforce (the contract says <= eps).\n")
     lines.append("| method | hit/miss disagreements with clarabel | median rel t vs clarabel "
-                 "| hits with certified gap > eps | max abs(t_upper - t_hi) / t | rays with t > certified t_hi | hits without usable normal | misses not certified (h_W(n) > 0) | point/witness check | clarabel t outside "
-                 "[t, t_hi] (rel) | statuses |")
+                 "| hits with certified gap > eps | max abs(t_upper - t_hi) / t "
+                 "| rays with t > certified t_hi | hits without usable normal "
+                 "| misses not certified (h_W(n) > 0) | point/witness check "
+                 "| clarabel t outside [t, t_hi] (rel) | statuses |")
     lines.append("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         lines.append(f"| {r['method']} | {r['hit_disagree']} | {_fmt(r['med_rel'], '.1e')} | "
-                     f"{r['n_over']} | {_fmt(r['t_upper_err'], '.1e')} | {r['n_below']} | {r['n_uncertified']} | {r['bad_miss']}/{r['n_miss']} | {_fmt(r['point_bad'], '.1e')} | "
+                     f"{r['n_over']} | {_fmt(r['t_upper_err'], '.1e')} | {r['n_below']} | "
+                     f"{r['n_uncertified']} | {r['bad_miss']}/{r['n_miss']} | "
+                     f"{_fmt(r['point_bad'], '.1e')} | "
                      f"{r['clarabel_out']:.1e} | "
                      + ", ".join(f"{k}: {v}" for k, v in sorted(r["status"].items())) + " |")
     lines.append("")
