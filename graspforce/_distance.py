@@ -6,7 +6,7 @@ caller can warm-start them and read Z_A(r) and its witnesses off the final rows.
 import numpy as np
 from numba import njit
 
-from ._corral import combine, corral
+from ._corral import combine, corral, set_row
 from ._kernel import support
 
 CONVERGED = 0   # GJK: h_A(n) - n^T v within tolerance;  ZC: h_{A - shift}(n) within tolerance
@@ -47,8 +47,7 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
             nvec[0] = 1.0
         support(ints, floats, nvec, point, wit)
         calls += 1
-        P[0, :] = point
-        Wt[0, :] = wit
+        set_row(P, Wt, 0, point, wit)
         lam[0] = 1.0
         k = 1
     else:
@@ -74,8 +73,7 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
         ref = abs(offset) if rel_to_offset else d
         if h - offset <= eps_abs + eps_rel * ref:
             return CONVERGED, k, d, h, it + 1, calls
-        P[k, :] = point
-        Wt[k, :] = wit
+        set_row(P, Wt, k, point, wit)
         lam[k] = 0.0
         k, kept = corral(P, Wt, lam, k + 1, b, b, True, D, work, rhs, wrhs, x)
         if not kept:
@@ -106,12 +104,12 @@ def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, n
             # the same rule as below: shift may sit a rounding error inside a vertex)
             v[:] = 0.0
             return CONVERGED, 0, tnorm, h, 0, calls
-        P[0, :] = point
-        Wt[0, :] = wit
+        set_row(P, Wt, 0, point, wit)
         lam[0] = 0.0
         k = 1
     else:
-        lam[:k] = 0.0
+        for j in range(k):
+            lam[j] = 0.0
     k, _ = corral(P, Wt, lam, k, target, shift, False, D, work, rhs, wrhs, x)
     h = 0.0
     d = tnorm
@@ -146,8 +144,7 @@ def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, n
         calls += 1
         if h <= eps_abs + eps_rel * np.dot(nvec, shift):
             return CONVERGED, k, d, h, it + 1, calls
-        P[k, :] = point
-        Wt[k, :] = wit
+        set_row(P, Wt, k, point, wit)
         lam[k] = 0.0
         k, kept = corral(P, Wt, lam, k + 1, target, shift, False, D, work, rhs, wrhs, x)
         if not kept:

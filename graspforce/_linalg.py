@@ -10,10 +10,10 @@ RANK_TOL = 1e-12
 
 
 @njit(cache=True)
-def lstsq(D, n, q, rhs, x, work, wrhs):
-    """x[:q] = argmin ||D[:n, :q] x - rhs[:n]||. False when D is (numerically) rank deficient.
-
-    `work` (n, q) and `wrhs` (n) are scratch; D and rhs are left untouched.
+def lstsq(D, n, q, rhs, x, x0, work, wrhs):
+    """x[x0:x0 + q] = argmin ||D[:n, :q] x - rhs[:n]||. False when D is (numerically) rank
+    deficient. `work` (n, q) and `wrhs` (n) are scratch; D and rhs are left untouched. (An offset,
+    not a view x[x0:]: a view costs a reference-count round trip in the hot loop.)
     """
     for i in range(n):
         wrhs[i] = rhs[i]
@@ -58,8 +58,8 @@ def lstsq(D, n, q, rhs, x, work, wrhs):
     for j in range(q - 1, -1, -1):
         s = wrhs[j]
         for c in range(j + 1, q):
-            s -= work[j, c] * x[c]
-        x[j] = s / work[j, j]
+            s -= work[j, c] * x[x0 + c]
+        x[x0 + j] = s / work[j, j]
     return True
 
 

@@ -15,7 +15,7 @@ Tolerance: every stopping rule is relative, (h_A(n) - n^T z) <= eps * n^T z, i.e
 import numpy as np
 from numba import njit
 
-from ._corral import drop_point
+from ._corral import drop_point, set_row
 from ._distance import CONVERGED, INSIDE, MAX_ITER, STALLED, gjk, scratch, zc
 from ._kernel import support
 from ._linalg import lstsq, lu_factor, lu_solve, lu_solve_t
@@ -44,10 +44,14 @@ def _result(status, t, t_up, h_n, iters, calls, normal, P, lam, Wt, k, singular)
 
 @njit(cache=True)
 def _keep(P, Wt, lam, k, Pz, Wz, lz):
-    """Save the simplex holding the current point on the ray: it becomes Z_A(r) at the end."""
-    Pz[:k] = P[:k]
-    Wz[:k] = Wt[:k]
-    lz[:k] = lam[:k]
+    """Save the simplex holding the current point on the ray: it becomes Z_A(r) at the end.
+    Element loops, not slices: a slice costs a reference-count round trip per call."""
+    for j in range(k):
+        for i in range(P.shape[1]):
+            Pz[j, i] = P[j, i]
+        for i in range(Wt.shape[1]):
+            Wz[j, i] = Wt[j, i]
+        lz[j] = lam[j]
     return k
 
 
@@ -78,7 +82,7 @@ def _on_ray(P, k, b, x, tol):
         rhs[i] = b[i] - P[0, i]
         for j in range(1, k):
             D[i, j - 1] = P[j, i] - P[0, i]
-    if not lstsq(D, n, k - 1, rhs, x[1:], work, wrhs):
+    if not lstsq(D, n, k - 1, rhs, x, 1, work, wrhs):
         return False
     s = 1.0
     for j in range(1, k):
@@ -127,8 +131,7 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
     t_up = t
     best_n = r / np.sqrt(rr)
     best_h = h0 / np.sqrt(rr)
-    P[0, :] = point
-    Wt[0, :] = wit
+    set_row(P, Wt, 0, point, wit)
     lam[0] = 1.0
     k = 1
     t_floor = -1.0   # max(-h_A(-r), 0) / r^T r, evaluated when first needed
@@ -278,8 +281,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     if alpha[j] > 0.0 and gam[j] / alpha[j] < best:
                         best = gam[j] / alpha[j]
                         js = j
-                P[js, :] = point
-                Wt[js, :] = wit
+                set_row(P, Wt, js, point, wit)
                 continue
         st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter,
                                            nvec, v, point, wit)
