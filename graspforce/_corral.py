@@ -99,7 +99,8 @@ def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x):
 @njit(cache=True)
 def combine(P, lam, k, out):
     """out = sum_i lam_i P_i."""
-    out[:] = 0.0
+    for i in range(P.shape[1]):
+        out[i] = 0.0
     for j in range(k):
         for i in range(P.shape[1]):
             out[i] += lam[j] * P[j, i]

@@ -114,7 +114,8 @@ def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, n
     h = 0.0
     d = tnorm
     for it in range(max_iter):
-        v[:] = 0.0
+        for i in range(n):
+            v[i] = 0.0
         mass = 0.0
         for j in range(k):
             gnorm = 0.0
