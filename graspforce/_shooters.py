@@ -177,6 +177,60 @@ def _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter, nvec, v, point, w
     return zc(ints, floats, t * r, r, P, Wt, lam, k, eps, 0.0, max_iter, nvec, v, point, wit)
 
 
+REFACTOR = 16   # IE steps between fresh factorizations of the facet matrix
+
+
+@njit(cache=True)
+def _invert(P, n, M, lu, piv, B, col):
+    """B = [P_0 .. P_{n-1}]^{-1} (facet points as columns), keeping its LU in lu, piv; False
+    when singular."""
+    for j in range(n):
+        for i in range(n):
+            M[i, j] = P[j, i]
+    if not lu_factor(M, n, lu, piv):
+        return False
+    for j in range(n):
+        for i in range(n):
+            col[i] = 0.0
+        col[j] = 1.0
+        lu_solve(lu, piv, n, col, B[:, j])
+    return True
+
+
+@njit(cache=True)
+def _matvec(B, n, x, out):
+    for i in range(n):
+        s = 0.0
+        for j in range(n):
+            s += B[i, j] * x[j]
+        out[i] = s
+
+
+@njit(cache=True)
+def _matvec_t_ones(B, n, out):
+    """out = B^T 1: the facet's hyperplane y^T x = 1."""
+    for j in range(n):
+        out[j] = 0.0
+    for i in range(n):
+        for j in range(n):
+            out[j] += B[i, j]
+
+
+@njit(cache=True)
+def _pivot(B, n, alpha, js):
+    """Column js of the facet replaced by s, with B s = alpha (Sherman-Morrison, as in the
+    revised simplex method): row js of the new inverse is B[js] / alpha_js, and every other
+    row i loses alpha_i times it."""
+    inv = 1.0 / alpha[js]
+    for j in range(n):
+        B[js, j] *= inv
+    for i in range(n):
+        if i != js and alpha[i] != 0.0:
+            f = alpha[i]
+            for j in range(n):
+                B[i, j] -= f * B[js, j]
+
+
 @njit(cache=True)
 def _restart(P, Wt, lam, k):
     """Warm start for the next ZC call: b_{k+1} is a convex combination of all of V_k, so
@@ -227,18 +281,32 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
     y = np.empty(n)
     gam = np.empty(n)
     alpha = np.empty(n)
+    B = np.empty((n, n))
+    col = np.empty(n)
+    age = -1
+    fresh_only = False
     while it < max_iter:
         if use_ie and k == n:
-            # IE step on the facet CH(V): hyperplane y^T x = 1, r = sum gam_l a_l, gam > 0
-            for j in range(n):
-                for i in range(n):
-                    M[i, j] = P[j, i]
-            ok = lu_factor(M, n, lu, piv)
-            if ok:
+            # IE step on the facet CH(V), columns a_l: hyperplane y^T x = 1, r = sum gam_l a_l.
+            # y and gam come from B, the facet's inverse, refactored every REFACTOR steps and
+            # updated in between by the revised simplex method's pivot rule (O(n^2) a step).
+            if age < 0 or age >= REFACTOR or fresh_only:
+                ok = _invert(P, n, M, lu, piv, B, col)
+                age = 0
+            else:
+                ok = True
+            if ok and fresh_only:
                 lu_solve_t(lu, piv, n, ones, y)
                 lu_solve(lu, piv, n, r, gam)
+            elif ok:
+                _matvec_t_ones(B, n, y)
+                _matvec(B, n, r, gam)
+            if ok:
                 yr = np.dot(y, r)
                 ok = yr > 0.0 and gam.min() >= -1e-12 * yr
+            if not ok and age > 0:
+                age = -1          # perhaps only drift in the updated inverse: refactor first
+                continue
             if not ok:
                 # rounding broke the facet: return to the last simplex known to hold b_k
                 P[:kz] = Pz[:kz]
@@ -261,28 +329,59 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                 singular += 1
             else:
                 t = 1.0 / yr
-                for j in range(n):
-                    lam[j] = gam[j] * t
-                kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
                 ny = np.sqrt(np.dot(y, y))
                 for i in range(n):
                     nvec[i] = y[i] / ny
                 h = support(ints, floats, nvec, point, wit)
                 calls += 1
                 it += 1
-                if h - 1.0 / ny <= eps * (1.0 / ny):
+                if h - 1.0 / ny <= eps * (1.0 / ny) and fresh_only:
+                    for j in range(n):
+                        lam[j] = gam[j] * t
+                    kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
                     return _result(HIT, t, h * ny / yr, h, it, calls, nvec, Pz, lz, Wz, kz,
                                    singular)
+                if h - 1.0 / ny <= eps * (1.0 / ny):
+                    # certify with LU solves on a fresh factorization: t and the weights must
+                    # not carry the drift of the updated inverse. The normal and h_A(n) already
+                    # evaluated give a valid bracket whatever n is.
+                    _invert(P, n, M, lu, piv, B, col)
+                    lu_solve_t(lu, piv, n, ones, y)
+                    lu_solve(lu, piv, n, r, gam)
+                    yr = np.dot(y, r)
+                    nr = np.dot(nvec, r)
+                    if yr > 0.0 and gam.min() >= 0.0 and h / nr - 1.0 / yr <= eps / yr:
+                        t = 1.0 / yr
+                        for j in range(n):
+                            lam[j] = gam[j] * t
+                        kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
+                        return _result(HIT, t, h / nr, h, it, calls, nvec, Pz, lz, Wz, kz,
+                                       singular)
+                    # the updated inverse's drift matters at this eps: from here on, LU
+                    # solves at every step (the floor of docs/core-api.md, "Numerical floor")
+                    fresh_only = True
+                    continue
+                for j in range(n):
+                    lam[j] = gam[j] * t
+                kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
                 # ratio test: the new facet the ray crosses replaces the vertex j*
-                lu_solve(lu, piv, n, point, alpha)
+                _matvec(B, n, point, alpha)
                 js = 0
                 best = np.inf
+                amax = 0.0
                 for j in range(n):
+                    amax = max(amax, abs(alpha[j]))
                     if alpha[j] > 0.0 and gam[j] / alpha[j] < best:
                         best = gam[j] / alpha[j]
                         js = j
                 set_row(P, Wt, js, point, wit)
+                if alpha[js] > 1e-8 * amax:
+                    _pivot(B, n, alpha, js)
+                    age += 1
+                else:
+                    age = -1
                 continue
+        age = -1
         st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter,
                                            nvec, v, point, wit)
         calls += zcalls
