@@ -27,14 +27,21 @@ BEYOND_TOL = 1e-12    # y^T s > 1 + BEYOND_TOL: s lies beyond the facet
 
 
 @njit(cache=True)
+def _factor(pool, idx, M, lu, piv):
+    """LU of the matrix whose columns are the facet's vertices pool[idx]; False if singular."""
+    n = idx.shape[0]
+    for j in range(n):
+        for i in range(n):
+            M[i, j] = pool[idx[j], i]
+    return lu_factor(M, n, lu, piv)
+
+
+@njit(cache=True)
 def _facet(pool, idx, r, M, lu, piv, ones, y, gam):
     """Hyperplane y and conic coordinates gam of the facet with vertices pool[idx]; False when
     it is degenerate or does not face the ray (y^T r <= 0)."""
     n = r.shape[0]
-    for j in range(n):
-        for i in range(n):
-            M[i, j] = pool[idx[j], i]
-    if not lu_factor(M, n, lu, piv):
+    if not _factor(pool, idx, M, lu, piv):
         return False
     lu_solve_t(lu, piv, n, ones, y)
     lu_solve(lu, piv, n, r, gam)
@@ -47,10 +54,7 @@ def _ratio_test(pool, facet, gam, s, M, lu, piv, alpha):
     s = sum alpha_l a_l, j* minimizes gam_j / alpha_j over alpha_j > 0. -1 on a tie (the ray
     would cross a lower-dimensional face: the general step handles it) or a singular facet."""
     n = s.shape[0]
-    for j in range(n):
-        for i in range(n):
-            M[i, j] = pool[facet[j], i]
-    if not lu_factor(M, n, lu, piv):
+    if not _factor(pool, facet, M, lu, piv):
         return -1
     lu_solve(lu, piv, n, s, alpha)
     js = -1
