@@ -1,12 +1,15 @@
 """graspforce: exact grasp and contact analysis by ray shooting (Zheng & Yamane)."""
+from .contact import Contact
 from .distance import closest_point, cone_distance
+from .grasp import Grasp
 from .ray_shoot import METHODS, ray_shoot
-from .results import ClosestPoint, ConeDistance, RayShot
-from .sets import (Ball, Box, Capsule, ConvexSet, Ellipsoid, Polytope, TruncatedCone, affine, hull,
-                   minkowski_sum, pose)
+from .results import ClosestPoint, ConeDistance, GraspQuality, MinForce, RayShot
+from .sets import (Ball, Box, Capsule, ConeCap, ConvexSet, Ellipsoid, Polytope, TruncatedCone,
+                   affine, hull, minkowski_sum, pose)
 
 __all__ = [
-    "Ball", "Box", "Capsule", "ClosestPoint", "ConeDistance", "ConvexSet", "Ellipsoid", "METHODS",
-    "Polytope", "RayShot", "TruncatedCone", "affine", "closest_point", "cone_distance", "hull",
-    "minkowski_sum", "pose", "ray_shoot",
+    "METHODS", "Ball", "Box", "Capsule", "ClosestPoint", "ConeCap", "ConeDistance", "Contact",
+    "ConvexSet", "Ellipsoid", "Grasp", "GraspQuality", "MinForce", "Polytope", "RayShot",
+    "TruncatedCone", "affine", "closest_point", "cone_distance", "hull", "minkowski_sum", "pose",
+    "ray_shoot",
 ]

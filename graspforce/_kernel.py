@@ -25,6 +25,7 @@ POLYTOPE = 0   # params: m, n, vertices (m*n)            witness: [active, verte
 ELLIPSOID = 1  # params: n, k, center (n), shape (n*k)   witness: [active, x (k)]
 BOX = 2        # params: n, half extents (n)             witness: [active, corner (n)]
 TRUNCATED_CONE = 3  # params: bottom radius, top radius, height    witness: [active, point (3)]
+CONE_CAP = 4   # params: n, mu                             witness: [active, g (n)]
 HULL = 10
 SUM = 11
 AFFINE = 12    # params: m, n, M (m*n), t (m)
@@ -86,6 +87,8 @@ def _leaf_support(k, f, p, d, wit, w):
             h += x * f[d + a]
             wit[w + 1 + a] = x
         return h
+    if k == CONE_CAP:
+        return _cone_cap_support(f, p, d, wit, w)
     # TRUNCATED_CONE: the hull of two coaxial disks
     rb = f[p]
     rt = f[p + 1]
@@ -112,6 +115,55 @@ def _leaf_support(k, f, p, d, wit, w):
     wit[w + 1] = x
     wit[w + 2] = y
     wit[w + 3] = z
+    return h
+
+
+@njit(cache=True)
+def _cone_cap_support(f, p, d, wit, w):
+    """Support of the unit vectors g of the circular cone K = {||g_2:n|| <= mu g_1}.
+
+    For y at angle phi from the axis e_1 and the cone's half-angle beta = atan(mu), the unit
+    vector of K closest in angle to y is y/||y|| when phi <= beta, else the boundary ray
+    b = (cos beta, sin beta y_perp/||y_perp||) in the plane of e_1 and y, so that
+    h(y) = ||y|| cos(max(0, phi - beta)) = y_1 cos beta + ||y_perp|| sin beta outside K. This holds
+    for every phi up to pi (the angle to K stays below pi), so the cap's support is negative for
+    y in the polar cone. Where positive it equals ||Pi_K(y)||, the support of K cut by the unit
+    ball (NOTES.md item 3).
+    """
+    n = int(f[p])
+    mu = f[p + 1]
+    y1 = f[d]
+    q2 = 0.0
+    for a in range(1, n):
+        q2 += f[d + a] * f[d + a]
+    q = np.sqrt(q2)
+    ny = np.sqrt(y1 * y1 + q2)
+    if q <= mu * y1:
+        # y in K: the cap's point is y itself, normalized (e_1 for y = 0)
+        if ny > 0.0:
+            for a in range(n):
+                f[d + n + a] = f[d + a] / ny
+        else:
+            f[d + n] = 1.0
+            for a in range(1, n):
+                f[d + n + a] = 0.0
+        h = ny
+    else:
+        cb = 1.0 / np.sqrt(1.0 + mu * mu)
+        sb = mu * cb
+        f[d + n] = cb
+        if q > 0.0:
+            for a in range(1, n):
+                f[d + n + a] = sb * f[d + a] / q
+        else:
+            # y = -|y| e_1: every boundary ray is equally close; take the one along e_2
+            for a in range(1, n):
+                f[d + n + a] = 0.0
+            if n > 1:
+                f[d + n + 1] = sb
+        h = y1 * cb + q * sb
+    for a in range(n):
+        wit[w + 1 + a] = f[d + n + a]
     return h
 
 

@@ -1,11 +1,9 @@
 """gf.ray_shoot: z_A(r), Z_A(r) and a supporting hyperplane by the five procedures of section 3."""
 import math
 
-import numpy as np
-
 from . import _shooters as S
 from ._dispatch import shoot
-from ._validate import finite_array, finite_scalar, positive_int
+from ._validate import finite_scalar, finite_vector, positive_int
 from .results import RayShot
 from .sets import ConvexSet
 
@@ -17,22 +15,19 @@ _STATUS = {S.HIT: "hit", S.MISS: "miss", S.LIMIT: "max_iter"}
 def check_ray_input(A, r, eps, max_iter):
     if not isinstance(A, ConvexSet):
         raise TypeError(f"A: expected a graspforce convex set, got {type(A).__name__}")
-    if not (type(r) is np.ndarray and r.dtype == np.float64 and r.shape == (A.dim,)):
-        r = finite_array(r, "r", ndim=1)
-        if r.shape[0] != A.dim:
-            raise ValueError(f"r: must have the set's dimension {A.dim}, got {r.shape[0]}")
-    # one dot product screens both rules: r.r is NaN or inf iff an entry is, and 0 iff r = 0
-    rr = float(r @ r)
-    if not math.isfinite(rr):
-        finite_array(r, "r")                       # raises, naming the rule
-        raise ValueError("r: too large: |r|^2 overflows; scale the ray")
+    r, rr = finite_vector(r, "r", A.dim)
     if rr == 0.0:
         raise ValueError("r: the ray direction must be nonzero")
+    return (r,) + check_tolerances(eps, max_iter)
+
+
+def check_tolerances(eps, max_iter):
+    # exact type tests first: the common call passes a float and an int and pays ~100 ns
     if type(eps) is not float or not 0.0 < eps < math.inf:
         eps = finite_scalar(eps, "eps", minimum=0.0, exclusive=True)
     if type(max_iter) is not int or max_iter < 1:
         max_iter = positive_int(max_iter, "max_iter")
-    return r, eps, max_iter
+    return eps, max_iter
 
 
 def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=1000):

@@ -77,3 +77,67 @@ class ConeDistance:
     status: str
     iterations: int
     support_calls: int
+
+
+@dataclass
+class MinForce:
+    """Minimal contact forces that resist an external wrench (section 5.1, eq. 11-15).
+
+    `sigma` is the objective (eq. 13 or 15: sum or max of the contacts' normal forces, or of their
+    full magnitudes) of `forces`, which lie in their friction cones and whose resultant is
+    -w_ext. The true minimum lies in [sigma_lower, sigma]: with z = t r (r = -w_ext) the point of
+    the ray in the wrench set W found by ray shooting and t_upper from its supporting hyperplane,
+    sigma = 1/t and sigma_lower = 1/t_upper (eq. 14 scales W by sigma).
+    status: "optimal" (sigma / sigma_lower - 1 <= eps), "infeasible" (no forces in the cones
+    resist w_ext: `shot.normal` n satisfies h_W(n) <= 0 < n^T r, a separating hyperplane),
+    "max_iter" (feasible: `forces` resist w_ext, but the bracket did not close to eps).
+    forces: (m, 4) local (f_1, f_2, f_3, f_4) = (normal force, two tangential, spin moment),
+    read off the witnesses of the final simplex Z_W(r), not re-solved. world_forces: (m, 3) the
+    force vectors in the world frame; wrenches: (m, 6) G_i f_i; resultant: sum of the wrenches.
+    Infinite sigma and zero forces when infeasible. `shot` is the underlying RayShot.
+    """
+    feasible: bool
+    status: str
+    sigma: float
+    sigma_lower: float
+    forces: np.ndarray
+    world_forces: np.ndarray
+    wrenches: np.ndarray
+    resultant: np.ndarray
+    norm: str
+    magnitude: str
+    method: str
+    iterations: int
+    support_calls: int
+    ray: tuple = field(repr=False)      # (W, r, raw result); None for a zero wrench
+
+    @cached_property
+    def shot(self):
+        """The RayShot on W(norm, magnitude) and R(-w_ext) that certifies this answer (built
+        on first use; None for a zero wrench)."""
+        if self.ray is None:
+            return None
+        from .ray_shoot import make_ray_shot
+        W, r, out = self.ray
+        return make_ray_shot(W, r, self.method, out)
+
+
+@dataclass(frozen=True)
+class GraspQuality:
+    """Force closure and the Ferrari-Canny quality of a grasp on its exact wrench set W.
+
+    value = the radius of the largest origin-centred ball inside W = min over unit u of h_W(u),
+    bracketed: lower <= value <= upper. `lower` is the inradius of a polytope of support points
+    inside W, `upper` = h_W(direction) for the unit `direction` in which W is thinnest. Not force
+    closure (the origin is not interior to W) gives value = lower = upper = 0 and a `direction`
+    with h_W(direction) <= tolerance (the wrench -direction cannot be resisted, or only just).
+    """
+    force_closure: bool
+    value: float
+    lower: float
+    upper: float
+    direction: np.ndarray
+    norm: str
+    magnitude: str
+    iterations: int
+    support_calls: int

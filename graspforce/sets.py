@@ -210,6 +210,30 @@ class TruncatedCone(Leaf):
         return np.asarray(local, dtype=float).copy()
 
 
+class ConeCap(Leaf):
+    """CH{g in R^dim : ||g|| = 1, ||(g_2, ..., g_dim)|| <= mu g_1}: the unit vectors of a circular
+    cone of half-angle atan(mu) about e_1. With the origin added (`hull(Polytope(zeros), cap)`) it
+    is the cone cut by the unit ball, whose support is ||Pi_K(u)|| (NOTES.md item 3); mu = 0 is the
+    single point e_1."""
+
+    kind = K.CONE_CAP
+
+    def __init__(self, mu, dim):
+        self.mu = finite_scalar(mu, "mu", minimum=0.0)
+        if not isinstance(dim, (int, np.integer)) or dim < 1:
+            raise ValueError(f"dim: must be a positive integer, got {dim!r}")
+        self.dim = int(dim)
+
+    def _params(self):
+        return np.array([self.dim, self.mu])
+
+    def _witness_len(self):
+        return self.dim
+
+    def local_to_point(self, local):
+        return np.asarray(local, dtype=float).copy()
+
+
 class Hull(ConvexSet):
     """CH(A_1 U ... U A_m)."""
 

@@ -1,0 +1,80 @@
+"""Contact forces read off the final simplex Z_W(r) (compiled: it runs on every min_force call)."""
+import numpy as np
+from numba import njit
+
+from ._dispatch import shoot
+from ._shooters import MISS
+
+# rows of a wrench space's leaf table (graspforce.wrench_space.WrenchSpace.table)
+CONTACT, SLOT, SIZE, MAP = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def shoot_and_read_forces(ints, floats, r, ws, method, eps, max_iter, G, table, maps, linf, full,
+                          spin_weight):
+    """One compiled call per min_force: z = t r on W by `method`, then the forces read off Z_W(r).
+
+    Returns (raw ray-shooting result, forces (m, 4), wrenches (m, 6), resultant (6,), sigma);
+    zero forces and sigma = inf when the ray misses W or leaves it at the origin.
+    """
+    out = shoot(ints, floats, r, ws, method, eps, max_iter)
+    t = out[1]
+    m = G.shape[0]
+    if out[0] == MISS or not t > 0.0:
+        return out, np.zeros((m, 4)), np.zeros((m, 6)), np.zeros(6), np.inf
+    forces, wrenches, resultant, sigma = contact_forces(out[9], out[8], 1.0 / t, G, table, maps,
+                                                       linf, full, spin_weight)
+    return out, forces, wrenches, resultant, sigma
+
+
+@njit(cache=True)
+def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight):
+    """(forces (m, 4), wrenches (m, 6), resultant (6,), sigma) for z = sum_k weights_k v_k = t r,
+    scale = 1/t, G (m, 6, 4) the contacts' G_i of eq. (11).
+
+    Every vertex v_k of Z_W(r) is a sum (Linf) or one (L1) of wrenches G_i u_ki with u_ki a unit
+    contact force, recovered from the vertex's witness row as base + map @ local (table: per
+    leaf its contact, witness slot, local size and offset in maps). Then
+    r = sum_i G_i f_i with f_i = sum_k (weights_k / t) u_ki: the forces resist w_ext = -r exactly,
+    up to the rounding of the simplex. sigma is their objective (eq. 13 or 15), <= 1/t by the
+    triangle inequality (equal when each contact appears in one vertex). For the full magnitude
+    spin_weight holds (mu_i / mu_si)^2 per contact (0 for point contacts), the weight of f_4^2 in
+    ||f_i||.
+    """
+    m = G.shape[0]
+    forces = np.zeros((m, 4))
+    for k in range(W.shape[0]):
+        c = weights[k] * scale
+        for j in range(table.shape[1]):
+            i = table[CONTACT, j]
+            s = table[SLOT, j]
+            if i < 0 or W[k, s] < 0.5:
+                continue
+            p = table[MAP, j]
+            L = table[SIZE, j]
+            for a in range(4):
+                f = maps[p + a]
+                for b in range(L):
+                    f += maps[p + 4 + a * L + b] * W[k, s + 1 + b]
+                forces[i, a] += c * f
+    sigma = 0.0
+    for i in range(m):
+        if full:
+            value = np.sqrt(forces[i, 0] ** 2 + forces[i, 1] ** 2 + forces[i, 2] ** 2
+                            + spin_weight[i] * forces[i, 3] ** 2)
+        else:
+            value = forces[i, 0]
+        if linf:
+            sigma = max(sigma, value)
+        else:
+            sigma += value
+    wrenches = np.zeros((m, 6))
+    resultant = np.zeros(6)
+    for i in range(m):
+        for a in range(6):
+            s = 0.0
+            for b in range(4):
+                s += G[i, a, b] * forces[i, b]
+            wrenches[i, a] = s
+            resultant[a] += s
+    return forces, wrenches, resultant, sigma

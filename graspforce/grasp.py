@@ -1,0 +1,138 @@
+"""gf.Grasp: minimal contact forces (section 5) and force closure on the exact friction cones."""
+import math
+
+import numpy as np
+
+from . import _shooters as S
+from ._forces import shoot_and_read_forces
+from ._validate import finite_vector
+from .contact import Contact
+from .quality import facet_expansion, grasp_quality
+from .ray_shoot import METHODS, check_tolerances
+from .results import MinForce
+from .wrench_space import MAGNITUDES, NORMS, WrenchSpace, contact_set
+
+
+class Grasp:
+    """m contacts on one object (a hand's fingertips, a robot's feet), in one frame.
+
+    matrix: the grasp map [G_1 ... G_m] of eq. (11), (6, 4m); a wrench is (force, torque about
+    the frame's origin). Wrench sets are built on first use and cached per (norm, magnitude).
+    """
+
+    def __init__(self, contacts):
+        contacts = tuple(contacts)
+        if not contacts:
+            raise ValueError("contacts: a grasp needs at least one contact")
+        for c in contacts:
+            if not isinstance(c, Contact):
+                raise TypeError(f"contacts: expected gf.Contact, got {type(c).__name__}")
+        self.contacts = contacts
+        self._matrices = np.array([c.matrix for c in contacts])     # (m, 6, 4)
+        self._spaces = {}
+
+    def __len__(self):
+        return len(self.contacts)
+
+    @property
+    def matrix(self):
+        """[G_1 ... G_m] of eq. (11), (6, 4m): maps the stacked local forces to the resultant."""
+        return np.hstack(self._matrices)
+
+    def contact_sets(self, magnitude="normal"):
+        """[W_1, ..., W_m]: each contact's wrenches at unit force magnitude (eq. 14)."""
+        _check_choice(magnitude, MAGNITUDES, "magnitude")
+        return [contact_set(c, magnitude)[0] for c in self.contacts]
+
+    def wrench_set(self, norm="L1", magnitude="normal"):
+        """W_L1 or W_Linf of eq. (14) (NOTES.md item 2 for Linf) as a convex set in R^6."""
+        return self._space(norm, magnitude).set
+
+    def _space(self, norm, magnitude):
+        space = self._spaces.get((norm, magnitude))
+        if space is None:
+            _check_choice(norm, NORMS, "norm")
+            _check_choice(magnitude, MAGNITUDES, "magnitude")
+            space = self._spaces[(norm, magnitude)] = WrenchSpace(self.contacts, norm, magnitude)
+        return space
+
+    def min_force(self, w_ext, norm="L1", magnitude="normal", method="zc-ie", eps=1e-9,
+                  max_iter=1000):
+        """Contact forces in the friction cones that resist w_ext with the least overall magnitude.
+
+        w_ext: the external wrench (force, torque about the frame's origin), (6,); the contacts
+        must supply -w_ext (eq. 11). norm "L1" minimizes the sum over contacts, "Linf" the
+        maximum; magnitude "normal" measures a contact by its normal force f_1 (eq. 13), "full" by
+        ||f|| (eq. 15). The minimum is 1/t for the farthest point t r of W (eq. 14) on the ray
+        R(r), r = -w_ext, found by `method` (any of gf.METHODS) to relative accuracy eps; the
+        forces are read off the witnesses of Z_W(r).
+        """
+        space = self._space(norm, magnitude)
+        code = METHODS.get(method)
+        if code is None:
+            raise ValueError(f"method: must be one of {sorted(METHODS)}, got {method!r}")
+        w, ww = finite_vector(w_ext, "w_ext", 6)
+        eps, max_iter = check_tolerances(eps, max_iter)
+        W = space.set
+        if ww == 0.0:
+            return self._without_forces(space, "optimal", 0.0, method, None)
+        r = -w
+        ints, floats = W.program
+        out, forces, wrenches, resultant, sigma = shoot_and_read_forces(
+            ints, floats, r, W.witness_size, code, eps, max_iter, self._matrices, space.table,
+            space.maps, norm == "Linf", magnitude == "full", space.spin_weight)
+        status, t = out[0], out[1]
+        if status == S.MISS or (status == S.HIT and not t > 0.0):
+            # a separating hyperplane, or a ray that leaves W at the origin: no finite forces
+            return self._without_forces(space, "infeasible", math.inf, method, (W, r, out))
+        if not t > 0.0:
+            return self._without_forces(space, "max_iter", math.inf, method, (W, r, out))
+        return MinForce(
+            feasible=True, status="optimal" if status == S.HIT else "max_iter", sigma=sigma,
+            sigma_lower=1.0 / out[2], forces=forces, world_forces=wrenches[:, :3],
+            wrenches=wrenches, resultant=resultant, norm=norm, magnitude=magnitude,
+            method=method, iterations=int(out[4]), support_calls=int(out[5]),
+            ray=(W, r, out))
+
+    def _without_forces(self, space, status, sigma, method, ray):
+        """The record of a zero wrench (sigma 0), an infeasible one or an undecided one (inf)."""
+        m = len(self.contacts)
+        lower = sigma
+        if ray is not None and status == "max_iter":
+            t_up = ray[2][2]
+            lower = 1.0 / t_up if t_up > 0.0 else 0.0
+        return MinForce(
+            feasible=sigma == 0.0, status=status, sigma=sigma, sigma_lower=lower,
+            forces=np.zeros((m, 4)), world_forces=np.zeros((m, 3)), wrenches=np.zeros((m, 6)),
+            resultant=np.zeros(6), norm=space.norm, magnitude=space.magnitude, method=method,
+            iterations=0 if ray is None else int(ray[2][4]),
+            support_calls=0 if ray is None else int(ray[2][5]), ray=ray)
+
+    def is_force_closure(self, tol=1e-9, max_iter=2000):
+        """Whether the contacts can resist every wrench: the origin is interior to W (eq. 14).
+
+        Certified either way (graspforce.quality): True once a polytope of support points of W
+        holds the origin strictly inside; False once a direction u with h_W(u) <= tol * size(W)
+        is found (the wrench -u cannot be resisted, or needs unbounded force). The answer does
+        not depend on the norm or magnitude (the cones are the same); W_L1 is the cheapest.
+        False too if max_iter steps decide neither (the origin within about tol of W's boundary).
+        """
+        W = self.wrench_set("L1", "normal")
+        return bool(facet_expansion(W, 0.0, tol, max_iter, stop_at_closure=True)[0])
+
+    def quality(self, norm="L1", magnitude="normal", eps=1e-6, tol=1e-9, max_iter=2000):
+        """The Ferrari-Canny quality: the largest Q such that every wrench of norm <= Q is resisted
+        by contact forces of overall magnitude <= 1 (measured by norm and magnitude, eq. 13/15),
+        i.e. the radius of the largest origin-centred ball in W. Bracketed to relative eps by
+        facet expansion (graspforce.quality); 0 when the grasp is not force-closure.
+        """
+        return grasp_quality(self.wrench_set(norm, magnitude), norm, magnitude, eps, tol,
+                             max_iter)
+
+    def __repr__(self):
+        return f"Grasp({len(self.contacts)} contacts)"
+
+
+def _check_choice(value, allowed, name):
+    if value not in allowed:
+        raise ValueError(f"{name}: must be one of {list(allowed)}, got {value!r}")
