@@ -87,7 +87,8 @@ class MinForce:
     full magnitudes) of `forces`, which lie in their friction cones and whose resultant is
     -w_ext. The true minimum lies in [sigma_lower, sigma]: with z = t r (r = -w_ext) the point of
     the ray in the wrench set W found by ray shooting and t_upper from its supporting hyperplane,
-    sigma = 1/t and sigma_lower = 1/t_upper (eq. 14 scales W by sigma).
+    sigma = 1/t and sigma_lower = 1/t_upper (eq. 14 scales W by sigma). Baselines report their
+    solver's dual bound, or NaN when it certifies none (graspforce.baselines).
     status: "optimal" (sigma / sigma_lower - 1 <= eps), "infeasible" (no forces in the cones
     resist w_ext: `shot.normal` n satisfies h_W(n) <= 0 < n^T r, a separating hyperplane),
     "max_iter" (feasible: `forces` resist w_ext, but the bracket did not close to eps).
