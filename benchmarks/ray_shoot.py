@@ -11,16 +11,13 @@ timed on its own with time.perf_counter_ns (from Python, garbage collector off) 
 warm-up pass over the same wrenches. Prints a markdown table and writes it to
 benchmarks/results/ray_shoot.md.
 
-Clarabel baseline (the same ray-shooting problem as a second-order cone program, r = -w_ext in b):
-
-    minimize sum_i lambda_i  s.t.  sum_i (lambda_i c_i + S_i y_i) = r,  ||y_i|| <= lambda_i,
-
-with W_i = {c_i + S_i x : ||x|| <= 1}. t r = sum_i (lambda_i / sum lambda)(c_i + S_i y_i / lambda_i)
-is a convex combination of points of the W_i, so t = 1 / sum_i lambda_i (infeasible <=> miss).
-"clarabel (update)" builds the solver once and per ray only calls solver.update(b=...) and
-solve(); "clarabel (build)" constructs a new solver for every ray. Settings: verbose = False,
-presolve_enable = False (data updates are refused while presolve is on; presolve only drops rows
-with infinite bounds, of which this problem has none), all tolerances at their defaults.
+Clarabel baseline: graspforce.baselines.clarabel_socp on the same four contacts (L1, normal
+magnitude). Its minimum sigma_L1 = sum_i f_i1 for w_ext = -r is 1 / t: the farthest point t r of
+W_L1 on the ray R(r) scales to forces of total normal force 1 (eq. 14), so t = 1 / sigma
+(infeasible <=> miss). "clarabel (update)" is `clarabel_socp.Prepared`: the solver is built once
+and per ray only solver.update(b=...) and solve() run (presolve off: data updates are refused while
+it is on); "clarabel (build)" is `clarabel_socp.min_force`, a new problem and solver for every ray
+at Clarabel's default settings. Verbose off, all tolerances at their defaults.
 
 Checks: every method's t against Clarabel's t (relative), and an independent certificate of every
 method's answer: t_hi = h_W(normal) / (normal . r), with h_W computed in closed form by
@@ -37,7 +34,6 @@ import sys
 import time
 
 import numpy as np
-import scipy.sparse as sp
 
 from benchmarks.grasp_sets import ingot_ellipsoids, ingot_grasp_sets, random_wrenches, support_L1
 
@@ -53,56 +49,28 @@ if not os.path.exists(PAPER_TABLES):
 # Clarabel baseline
 
 class ClarabelRayShooter:
-    """min sum lambda s.t. sum_i (lambda_i c_i + S_i y_i) = r, (lambda_i, y_i) in SOC: t = 1/sum lambda."""
+    """t = 1 / min sigma_L1 for w_ext = -r, from graspforce.baselines.clarabel_socp."""
 
-    def __init__(self, ellipsoids):
-        import clarabel
-        self._clarabel = clarabel
-        m = len(ellipsoids)
-        n, k = ellipsoids[0][1].shape
-        nv = m + m * k
-        A = np.zeros((n + m * (1 + k), nv))
-        for i, (c, S) in enumerate(ellipsoids):
-            A[:n, i] = c
-            A[:n, m + i * k:m + (i + 1) * k] = S
-            row = n + i * (1 + k)           # s = b - A x = (lambda_i, y_i) in SOC(1 + k)
-            A[row, i] = -1.0
-            A[row + 1:row + 1 + k, m + i * k:m + (i + 1) * k] = -np.eye(k)
-        self.m, self.n = m, n
-        self.P = sp.csc_matrix((nv, nv))
-        self.q = np.r_[np.ones(m), np.zeros(m * k)]
-        self.A = sp.csc_matrix(A)
-        self.b = np.zeros(A.shape[0])
-        self.cones = [clarabel.ZeroConeT(n)] + [clarabel.SecondOrderConeT(1 + k) for _ in range(m)]
-        self.settings = clarabel.DefaultSettings()
-        self.settings.verbose = False
-        self.settings.presolve_enable = False
-        self.solver = clarabel.DefaultSolver(self.P, self.q, self.A, self.b, self.cones, self.settings)
-        if not self.solver.is_data_update_allowed():
-            raise RuntimeError("clarabel refuses data updates with these settings")
-        self._solved = clarabel.SolverStatus.Solved
-        self._infeasible = (clarabel.SolverStatus.PrimalInfeasible,
-                            clarabel.SolverStatus.AlmostPrimalInfeasible)
+    def __init__(self, grasp):
+        from graspforce.baselines import clarabel_socp
+        self.grasp, self._min_force = grasp, clarabel_socp.min_force
+        self.prepared = clarabel_socp.Prepared(grasp)
 
-    def _t(self, sol):
-        if sol.status == self._solved:
-            return 1.0 / sum(sol.x[:self.m])
-        if sol.status in self._infeasible:
+    @staticmethod
+    def _t(res):
+        if res.status == "optimal":
+            return 1.0 / res.sigma
+        if res.status == "infeasible":
             return 0.0                       # the ray misses W
         return float("nan")                  # max_iter, numerical trouble, ...
 
     def update_solve(self, r):
         """The fastest use: the solver is built once, only b changes."""
-        self.b[:self.n] = r
-        self.solver.update(b=self.b)
-        return self._t(self.solver.solve())
+        return self._t(self.prepared.solve(-r))
 
     def build_solve(self, r):
-        """Reference: a new solver for every ray."""
-        b = self.b.copy()
-        b[:self.n] = r
-        solver = self._clarabel.DefaultSolver(self.P, self.q, self.A, b, self.cones, self.settings)
-        return self._t(solver.solve())
+        """Reference: a new problem and solver for every ray."""
+        return self._t(self._min_force(self.grasp, -r))
 
 
 # ------------------------------------------------------------------------------------------------
@@ -259,7 +227,9 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
                for a, b in zip(ellipsoids, ingot_ellipsoids()))
 
     # --- Clarabel baseline
-    cl = ClarabelRayShooter(ellipsoids)
+    # benchmarks.min_force imports this module: import it here, not at the top
+    from benchmarks.min_force import ingot_grasp
+    cl = ClarabelRayShooter(ingot_grasp())
     cl_times, cl_t = _timed_pass(cl.update_solve, rays)
     cl_t = np.array(cl_t)
     build_times, build_t = _timed_pass(cl.build_solve, rays)

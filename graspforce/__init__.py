@@ -2,14 +2,16 @@
 from .contact import Contact
 from .distance import closest_point, cone_distance
 from .grasp import Grasp
+from .growth import GrowthDistance, growth_distance
 from .ray_shoot import METHODS, ray_shoot
-from .results import ClosestPoint, ConeDistance, GraspQuality, MinForce, RayShot
+from .results import (ClosestPoint, ConeDistance, GraspQuality, GrowthDistanceResult, MinForce,
+                      RayShot)
 from .sets import (Ball, Box, Capsule, ConeCap, ConvexSet, Ellipsoid, Polytope, TruncatedCone,
                    affine, hull, minkowski_sum, pose)
 
 __all__ = [
     "METHODS", "Ball", "Box", "Capsule", "ClosestPoint", "ConeCap", "ConeDistance", "Contact",
-    "ConvexSet", "Ellipsoid", "Grasp", "GraspQuality", "MinForce", "Polytope", "RayShot",
-    "TruncatedCone", "affine", "closest_point", "cone_distance", "hull", "minkowski_sum", "pose",
-    "ray_shoot",
+    "ConvexSet", "Ellipsoid", "Grasp", "GraspQuality", "GrowthDistance", "GrowthDistanceResult",
+    "MinForce", "Polytope", "RayShot", "TruncatedCone", "affine", "closest_point",
+    "cone_distance", "growth_distance", "hull", "minkowski_sum", "pose", "ray_shoot",
 ]

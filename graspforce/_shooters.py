@@ -257,7 +257,8 @@ def zc_family(ints, floats, r, ws, eps, max_iter, mode):
 @njit(cache=True)
 def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls):
     """ZC-based iterations from b = t r in A, the convex combination lz of Pz[:kz] (t = 0,
-    kz = 0: from the origin, which first decides whether the ray meets A). mode: ZC_ONLY
+    kz = 0: from the origin, which first decides whether the ray meets A; kz = n with WITH_IE: a
+    facet the ray crosses, where IE steps start). mode: ZC_ONLY
     (section 3.3), WITH_IE (ZC-IE, section 3.4.2: plain IE steps while V_k is a facet), or
     UNTIL_FACET (return FACET with V_k as soon as it is a facet: IE's initialization)."""
     use_ie = mode == WITH_IE
@@ -269,7 +270,10 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
     P[:kz] = Pz[:kz]
     Wt[:kz] = Wz[:kz]
     lam[:kz] = lz[:kz]
-    k = _restart(P, Wt, lam, kz) if kz > 0 else 0
+    if use_ie and kz == n:
+        k = kz            # a warm-start facet (graspforce._warm): IE steps from it at once
+    else:
+        k = _restart(P, Wt, lam, kz) if kz > 0 else 0
     nvec = np.empty(n)
     v = np.empty(n)
     point = np.empty(n)

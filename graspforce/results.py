@@ -142,3 +142,55 @@ class GraspQuality:
     magnitude: str
     iterations: int
     support_calls: int
+
+
+@dataclass
+class GrowthDistanceResult:
+    """The growth distance g(A, B) of eq. (9)-(10) and the contact of A(sigma) and B(sigma).
+
+    sigma = 1/t for z = t r the farthest point of Delta = R_A(A_0) - R_B(B_0) on the ray
+    R(r), r = p_B - p_A (eq. 10); the true g lies in [sigma_lower, sigma] (sigma_lower =
+    1/t_upper from the supporting hyperplane). status: "separated" (sigma > 1 + tol),
+    "touching" (|sigma - 1| <= tol), "penetrating" (sigma < 1 - tol), with tol = max(eps, 1e-12)
+    (graspforce.growth.TOUCHING); "max_iter" when the bracket did not close (sigma is then an
+    upper bound). point_a, point_b and normal are derived from Z_Delta(r) on first use
+    (graspforce.growth docstring); coincident reference points give sigma = 0, the shared
+    point, and a zero normal.
+    """
+    sigma: float
+    sigma_lower: float
+    status: str
+    method: str
+    iterations: int
+    support_calls: int
+    ray: tuple = field(repr=False)              # (Delta, r, raw result); None if coincident
+    frame: tuple = field(repr=False)            # (R_A, p_A, R_B, p_B, the GrowthDistance)
+
+    @cached_property
+    def shot(self):
+        """The RayShot on Delta and R(p_B - p_A) that certifies sigma (None if coincident)."""
+        if self.ray is None:
+            return None
+        from .ray_shoot import make_ray_shot
+        delta, r, out = self.ray
+        return make_ray_shot(delta, r, self.method, out)
+
+    @cached_property
+    def _contact(self):
+        from .growth import contact_from_shot
+        return contact_from_shot(self)
+
+    @property
+    def point_a(self):
+        """The point of A(sigma) where it touches B(sigma) (on A(sigma)'s boundary)."""
+        return self._contact[0]
+
+    @property
+    def point_b(self):
+        """The point of B(sigma) where it touches A(sigma); equals point_a up to rounding."""
+        return self._contact[1]
+
+    @property
+    def normal(self):
+        """Unit normal of the plane separating A(sigma) and B(sigma) at the contact, from A to B."""
+        return self._contact[2]

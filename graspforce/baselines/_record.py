@@ -1,33 +1,48 @@
-"""The MinForce record of a baseline: everything derived from the solver's forces alone."""
+"""What every baseline shares: the input checks of Grasp.min_force, and the MinForce record
+derived from a solver's forces alone (so that sigma, the resultant and the cone test judge the
+forces actually returned, not the solver's own objective value)."""
 import math
 
 import numpy as np
 
+from .._validate import finite_vector
+from ..contact import Contact
+from ..grasp import Grasp
 from ..results import MinForce
 from ..wrench_space import MAGNITUDES, NORMS
 
 
-def check_problem(grasp, w_ext, norm, magnitude):
-    """(contacts, w) after the same input checks as Grasp.min_force."""
-    from .._validate import finite_vector
-    contacts = tuple(getattr(grasp, "contacts", grasp))
-    if not contacts:
-        raise ValueError("grasp: needs at least one contact")
+def check_problem(grasp, norm, magnitude):
+    """The Objective of a gf.Grasp or of a sequence of gf.Contact, after the input checks."""
+    if isinstance(grasp, Grasp):
+        contacts = grasp.contacts
+    else:
+        contacts = tuple(grasp)
+        if not contacts or not all(isinstance(c, Contact) for c in contacts):
+            raise ValueError("grasp: must be a gf.Grasp or a non-empty sequence of gf.Contact")
     if norm not in NORMS:
         raise ValueError(f"norm: must be one of {list(NORMS)}, got {norm!r}")
     if magnitude not in MAGNITUDES:
         raise ValueError(f"magnitude: must be one of {list(MAGNITUDES)}, got {magnitude!r}")
-    w, _ = finite_vector(w_ext, "w_ext", 6)
-    return contacts, w
+    # a Grasp keeps its G_i: reading them is free, rebuilding them costs ~15 us per contact,
+    # which would be charged to the baselines built per call
+    matrices = (grasp.matrix.reshape(6, -1, 4).transpose(1, 0, 2) if isinstance(grasp, Grasp)
+                else np.array([c.matrix for c in contacts]))
+    return Objective(contacts, matrices, norm, magnitude)
+
+
+def check_wrench(w_ext):
+    """w_ext as a finite (6,) float array."""
+    return finite_vector(w_ext, "w_ext", 6)[0]
 
 
 class Objective:
-    """What a baseline needs to turn its forces into a MinForce: the contacts' G_i of eq. (11)
-    and the spin weights of eq. (15), computed once per grasp."""
+    """sigma of eq. (13) or (15) and the MinForce record, for one grasp and objective."""
 
-    def __init__(self, contacts, norm, magnitude):
+    def __init__(self, contacts, matrices, norm, magnitude):
         self.contacts, self.norm, self.magnitude = contacts, norm, magnitude
-        self.G = np.array([c.matrix for c in contacts])
+        self.G = matrices                     # (m, 6, 4): G_i of eq. (11)
+        # (mu / mu_s)^2 weighs the spin moment in ||f|| of eq. (15); point contacts have f_4 = 0
         self.spin_weight = np.array([(c.mu / c.mu_spin) ** 2 if c.mu_spin > 0 else 0.0
                                      for c in contacts])
 
@@ -41,8 +56,9 @@ class Objective:
         return float(values.sum() if self.norm == "L1" else values.max())
 
     def record(self, forces, status, sigma_lower, method, iterations):
-        """A MinForce from a solver's forces; zero forces and sigma = inf unless feasible."""
-        feasible = status in ("optimal", "max_iter", "inaccurate") and forces is not None
+        """The MinForce of a solver's local forces (m, 4), or of none (forces None: infeasible,
+        or no finite iterate), which gives zero forces and sigma = sigma_lower = inf."""
+        feasible = forces is not None
         if not feasible:
             forces = np.zeros((len(self.contacts), 4))
         wrenches = np.einsum("ijk,ik->ij", self.G, forces)

@@ -1,134 +1,144 @@
-"""Baseline (a): the exact problem as a second-order cone program, solved by Clarabel.
+"""Baseline (a): the exact problem of section 5.1 as a second-order cone program for Clarabel.
 
-Variables: per contact its free force components x_i (soft finger f_1..f_4, point contact
-f_1..f_3, frictionless f_1), plus the epigraph variables of the objective. Constraints (Clarabel's
-form A x + s = b, s in a cone):
-    sum_i G_i f_i = -w_ext                                  (zero cone, eq. 11)
-    (f_1, f_2/mu, f_3/mu, f_4/mu_s) in SOC                  (friction cone, eq. 12)
-    L1 normal:   minimize sum_i f_i1
+    min_force(grasp, w_ext, norm="L1", magnitude="normal", tight=False, **options) -> MinForce
+    Prepared(grasp, norm="L1", magnitude="normal", tight=False, **options).solve(w_ext)
+
+`min_force` builds the problem and a solver on every call, with Clarabel's default settings
+(verbose off): how it is usually called. `Prepared` builds both once per grasp and objective;
+`solve` only replaces the wrench with `solver.update(b=...)`, Clarabel at its fastest (presolve is
+off there: Clarabel refuses data updates with it on; it would only drop rows with infinite bounds,
+of which this problem has none). tight=True tightens the gap and feasibility tolerances from 1e-8
+to 1e-10 for reference values; `options` are any other Clarabel settings by name.
+
+Variables: each contact's free force components x_i (soft finger f_1..f_4, point contact f_1..f_3,
+frictionless f_1), then the epigraph variables of the objective. Constraints, in Clarabel's form
+b - A x in a cone:
+    sum_i G_i f_i = -w_ext                                   zero cone (eq. 11); only b varies
+    (f_1, f_2/mu, f_3/mu, f_4/mu_s) in SOC                   friction cone F_i (eq. 12); point
+                                                             contacts drop f_4, frictionless
+                                                             ones keep f_1 >= 0
+    L1 normal:   minimize sum_i f_i1                         (eq. 13)
     Linf normal: minimize s,  s - f_i1 >= 0
     L1 full:     minimize sum_i tau_i,  (tau_i, D f_i) in SOC,  D = diag(1, 1, 1, mu/mu_s)
-    Linf full:   minimize s,  (s, D f_i) in SOC               (eq. 15)
-Only b depends on the wrench, so `Prepared` builds the solver once and calls
-`solver.update(b=...)` per wrench (presolve off: Clarabel refuses data updates with it on).
-sigma_lower is Clarabel's dual objective.
+    Linf full:   minimize s,  (s, D f_i) in SOC              (eq. 15: ||f_i|| = ||D f_i||)
+The record's sigma is the objective of the returned forces; sigma_lower is Clarabel's dual
+objective when it reports Solved (a lower bound to its feasibility tolerance), else NaN. Status: Solved -> "optimal",
+AlmostSolved -> "inaccurate", (Almost)PrimalInfeasible -> "infeasible", MaxIterations and
+MaxTime -> "max_iter", anything else -> "inaccurate" with the last iterate (graspforce.baselines
+._status).
 """
 import numpy as np
 import scipy.sparse as sp
 
-from .._validate import finite_vector
-from ._record import Objective, check_problem
+from . import _status
+from ._record import check_problem, check_wrench
 
-_TIGHT = {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10, "tol_ktratio": 1e-8,
-          "max_iter": 200}
-
-
-class Prepared:
-    """The SOCP of one grasp and objective, built once; `solve(w_ext)` per wrench.
-
-    tight=True sets gap and feasibility tolerances to 1e-10 (defaults are 1e-8), for reference
-    values; options are any other Clarabel settings.
-    """
-
-    def __init__(self, grasp, norm="L1", magnitude="normal", tight=False, **options):
-        import clarabel
-        self._clarabel = clarabel
-        contacts, _ = check_problem(grasp, np.zeros(6), norm, magnitude)
-        self.contacts, self.norm, self.magnitude = contacts, norm, magnitude
-        self._objective = Objective(contacts, norm, magnitude)
-        sizes = [_free_size(c) for c in contacts]
-        starts = np.concatenate(([0], np.cumsum(sizes)))
-        m, nf = len(contacts), int(starts[-1])
-        n_extra = m if (norm, magnitude) == ("L1", "full") else (1 if norm == "Linf" else 0)
-        nx = nf + n_extra
-        rows, cones, q = [], [clarabel.ZeroConeT(6)], np.zeros(nx)
-        eq = np.zeros((6, nx))
-        for i, c in enumerate(contacts):
-            eq[:, starts[i]:starts[i + 1]] = c.matrix[:, :sizes[i]]
-        rows.append(eq)
-        for i, c in enumerate(contacts):
-            block = np.zeros((sizes[i], nx))
-            scale = [1.0] if c.mu == 0.0 else [1.0, 1.0 / c.mu, 1.0 / c.mu]
-            if c.mu_spin > 0.0:
-                scale.append(1.0 / c.mu_spin)
-            for a in range(sizes[i]):
-                block[a, starts[i] + a] = -scale[a]
-            rows.append(block)
-            cones.append(clarabel.SecondOrderConeT(sizes[i]) if sizes[i] > 1
-                         else clarabel.NonnegativeConeT(1))
-        if magnitude == "normal":
-            if norm == "L1":
-                q[starts[:-1]] = 1.0
-            else:
-                q[nf] = 1.0
-                block = np.zeros((m, nx))
-                block[np.arange(m), starts[:-1]] = 1.0
-                block[:, nf] = -1.0
-                rows.append(block)
-                cones.append(clarabel.NonnegativeConeT(m))
-        else:
-            for i, c in enumerate(contacts):
-                epigraph = nf + (i if norm == "L1" else 0)
-                q[epigraph] = 1.0
-                block = np.zeros((1 + sizes[i], nx))
-                block[0, epigraph] = -1.0
-                weight = [1.0, 1.0, 1.0, c.mu / c.mu_spin if c.mu_spin > 0 else 0.0]
-                for a in range(sizes[i]):
-                    block[1 + a, starts[i] + a] = -weight[a]
-                rows.append(block)
-                cones.append(clarabel.SecondOrderConeT(1 + sizes[i]))
-        A = np.vstack(rows)
-        self._starts, self._sizes = starts, sizes
-        self._b = np.zeros(A.shape[0])
-        settings = clarabel.DefaultSettings()
-        settings.verbose = False
-        settings.presolve_enable = False
-        for key, value in {**(_TIGHT if tight else {}), **options}.items():
-            setattr(settings, key, value)
-        self._args = (sp.csc_matrix((nx, nx)), q, sp.csc_matrix(A), cones, settings)
-        self.solver = clarabel.DefaultSolver(*self._args[:3], self._b, *self._args[3:])
-        self._status = _status_map(clarabel)
-
-    def solve(self, w_ext):
-        """MinForce for w_ext, reusing the factorization structure (only b changes)."""
-        w, _ = finite_vector(w_ext, "w_ext", 6)
-        self._b[:6] = -w
-        self.solver.update(b=self._b)
-        return self._result(self.solver.solve())
-
-    def solve_new(self, w_ext):
-        """MinForce for w_ext from a solver built for this call (how it is usually called)."""
-        w, _ = finite_vector(w_ext, "w_ext", 6)
-        b = self._b.copy()
-        b[:6] = -w
-        P, q, A, cones, settings = self._args
-        return self._result(self._clarabel.DefaultSolver(P, q, A, b, cones, settings).solve())
-
-    def _result(self, sol):
-        status = self._status.get(str(sol.status), "inaccurate")
-        forces = None
-        if status in ("optimal", "max_iter", "inaccurate"):
-            x = np.asarray(sol.x)
-            forces = np.zeros((len(self.contacts), 4))
-            for i, size in enumerate(self._sizes):
-                forces[i, :size] = x[self._starts[i]:self._starts[i] + size]
-        return self._objective.record(forces, status, float(sol.obj_val_dual), "clarabel-socp",
-                                      sol.iterations)
+METHOD = "clarabel-socp"
+TIGHT = {"tol_gap_abs": 1e-10, "tol_gap_rel": 1e-10, "tol_feas": 1e-10, "tol_ktratio": 1e-8}
 
 
 def min_force(grasp, w_ext, norm="L1", magnitude="normal", tight=False, **options):
-    """The minimal contact forces as an SOCP, built and solved by Clarabel in this call."""
-    return Prepared(grasp, norm, magnitude, tight, **options).solve_new(w_ext)
+    """The minimal contact forces, from a problem and a Clarabel solver built in this call."""
+    import clarabel
+    socp = _Socp(check_problem(grasp, norm, magnitude))
+    settings = _settings(clarabel, tight, options)
+    solver = clarabel.DefaultSolver(*socp.data(check_wrench(w_ext)), settings)
+    return socp.result(solver.solve())
 
 
-def _free_size(contact):
-    if contact.mu == 0.0:
-        return 1
-    return 4 if contact.mu_spin > 0.0 else 3
+class Prepared:
+    """The SOCP of one grasp and objective with its Clarabel solver, built once;
+    `solve(w_ext)` per wrench."""
+
+    def __init__(self, grasp, norm="L1", magnitude="normal", tight=False, **options):
+        import clarabel
+        if options.get("presolve_enable", False):
+            raise ValueError("presolve_enable: must be False here: Clarabel refuses data "
+                             "updates with presolve on")
+        self._socp = _Socp(check_problem(grasp, norm, magnitude))
+        settings = _settings(clarabel, tight, {**options, "presolve_enable": False})
+        self.solver = clarabel.DefaultSolver(*self._socp.data(np.zeros(6)), settings)
+
+    def solve(self, w_ext):
+        """The MinForce for w_ext: only b changes, the KKT structure is reused."""
+        self.solver.update(b=self._socp.data(check_wrench(w_ext))[3])
+        return self._socp.result(self.solver.solve())
 
 
-def _status_map(clarabel):
-    S = clarabel.SolverStatus
-    return {str(S.Solved): "optimal", str(S.AlmostSolved): "inaccurate",
-            str(S.PrimalInfeasible): "infeasible", str(S.AlmostPrimalInfeasible): "infeasible",
-            str(S.MaxIterations): "max_iter", str(S.MaxTime): "max_iter"}
+class _Socp:
+    """Clarabel's (P, q, A, b, cones) for one grasp and objective, and the record of a solution."""
+
+    def __init__(self, objective):
+        import clarabel
+        self.objective = objective
+        contacts, norm, magnitude = objective.contacts, objective.norm, objective.magnitude
+        sizes = [1 if c.mu == 0.0 else 4 if c.mu_spin > 0.0 else 3 for c in contacts]
+        starts = np.concatenate(([0], np.cumsum(sizes))).astype(int)
+        m, nf = len(contacts), int(starts[-1])
+        # epigraph variables: one per contact for a sum of norms, one shared bound for a maximum
+        n_epigraph = {("L1", "normal"): 0, ("L1", "full"): m}.get((norm, magnitude), 1)
+        nx = nf + n_epigraph
+
+        equilibrium = np.zeros((6, nx))
+        rows, cones = [equilibrium], [clarabel.ZeroConeT(6)]
+        for c, G, start, k in zip(contacts, objective.G, starts, sizes):
+            equilibrium[:, start:start + k] = G[:, :k]
+            # b = 0 on these rows, so -A x is the cone's point: minus the scaled forces
+            scale = [1.0] if k == 1 else [1.0, 1.0 / c.mu, 1.0 / c.mu] + (
+                [1.0 / c.mu_spin] if k == 4 else [])
+            cone_rows = np.zeros((k, nx))
+            cone_rows[:, start:start + k] = -np.diag(scale)
+            rows.append(cone_rows)
+            cones.append(clarabel.SecondOrderConeT(k) if k > 1 else clarabel.NonnegativeConeT(1))
+
+        q = np.zeros(nx)
+        if magnitude == "normal" and norm == "L1":
+            q[starts[:-1]] = 1.0
+        elif magnitude == "normal":
+            q[nf] = 1.0
+            bound = np.zeros((m, nx))                 # -A x = s - f_i1 >= 0
+            bound[np.arange(m), starts[:-1]] = 1.0
+            bound[:, nf] = -1.0
+            rows.append(bound)
+            cones.append(clarabel.NonnegativeConeT(m))
+        else:
+            q[nf:] = 1.0
+            for i, (c, start, k) in enumerate(zip(contacts, starts, sizes)):
+                norm_rows = np.zeros((1 + k, nx))     # -A x = (tau_i or s, D f_i)
+                norm_rows[0, nf + (i if norm == "L1" else 0)] = -1.0
+                weight = [1.0, 1.0, 1.0, c.mu / c.mu_spin] if k == 4 else [1.0] * k
+                norm_rows[1:, start:start + k] = -np.diag(weight)
+                rows.append(norm_rows)
+                cones.append(clarabel.SecondOrderConeT(1 + k))
+
+        A = np.vstack(rows)
+        self._P, self._q, self._A = sp.csc_matrix((nx, nx)), q, sp.csc_matrix(A)
+        self._b, self._cones = np.zeros(A.shape[0]), cones
+        # x -> forces (m, 4): the index of each force component in x, or nx (a zero appended)
+        take = np.full((m, 4), nx)
+        for i, (start, k) in enumerate(zip(starts, sizes)):
+            take[i, :k] = np.arange(start, start + k)
+        self._take = take
+
+    def data(self, w):
+        """(P, q, A, b, cones) for the wrench w; b is one buffer, rewritten per call."""
+        self._b[:6] = -w
+        return self._P, self._q, self._A, self._b, self._cones
+
+    def result(self, solution):
+        status = _status.clarabel(solution.status)
+        x = np.append(solution.x, 0.0)
+        forces = x[self._take] if status != "infeasible" and np.isfinite(x).all() else None
+        # the dual objective bounds the minimum only once Clarabel's full tolerances are met
+        lower = float(solution.obj_val_dual) if status == "optimal" else np.nan
+        return self.objective.record(forces, status, lower, METHOD, solution.iterations)
+
+
+def _settings(clarabel, tight, options):
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    for key, value in {**(TIGHT if tight else {}), **options}.items():
+        if not hasattr(settings, key):
+            raise ValueError(f"{key}: not a Clarabel setting")
+        setattr(settings, key, value)
+    return settings

@@ -1,0 +1,78 @@
+"""ZC-IE warm-started from a previous answer's normal (time coherence, the paper's future work).
+
+When a query follows a similar one (an object pair that moved a little), the new z_A(r) lies
+near the old supporting hyperplane's touching point. Instead of ZC's search from the origin,
+take n support points in directions spread around the previous normal; if the ray crosses
+their facet (positive conic coordinates), IE steps start right there.
+"""
+import numpy as np
+from numba import njit
+
+from ._kernel import support
+from ._linalg import lu_factor, lu_solve
+from ._shooters import WITH_IE, zc_family, zc_from
+
+WIDENINGS = 3        # spreads tried: spread, 4 spread, 16 spread; then the cold start
+
+
+@njit(cache=True)
+def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
+    """ZC-IE (section 3.4.2) from the facet of the support points in the directions
+    normal + spread w_j, w_j the vertices of a regular simplex in the plane orthogonal to
+    `normal`, widened while the ray misses that facet, then cold ZC-IE. Same result tuple as
+    `shoot`."""
+    n = r.shape[0]
+    # Householder reflection taking (1, ..., 1)/sqrt(n) to the normal: it maps the simplex
+    # e_j - 1/n, orthogonal to (1, ..., 1), into the normal's orthogonal plane
+    v = np.empty(n)
+    vv = 0.0
+    for a in range(n):
+        v[a] = 1.0 / np.sqrt(n) - normal[a]
+        vv += v[a] * v[a]
+    P = np.empty((n + 2, n))
+    Wt = np.empty((n + 2, ws))
+    lam = np.empty(n + 2)
+    d = np.empty(n)
+    w = np.empty(n)
+    point = np.empty(n)
+    wit = np.empty(ws)
+    M = np.empty((n, n))
+    lu = np.empty((n, n))
+    piv = np.empty(n, np.int64)
+    gam = np.empty(n)
+    calls = 0
+    # a wider spread when the ray misses the facet: the pose moved more than expected
+    for attempt in range(WIDENINGS):
+        for j in range(n):
+            for a in range(n):
+                w[a] = (1.0 if a == j else 0.0) - 1.0 / n
+            if vv > 1e-30:
+                vw = 0.0
+                for a in range(n):
+                    vw += v[a] * w[a]
+                for a in range(n):
+                    w[a] -= 2.0 * vw / vv * v[a]
+            for a in range(n):
+                d[a] = normal[a] + spread * w[a]
+            support(ints, floats, d, point, wit)
+            for a in range(n):
+                P[j, a] = point[a]
+            for a in range(ws):
+                Wt[j, a] = wit[a]
+        calls += n
+        # conic coordinates of r in the n points: r = sum gam_j P[j]
+        for i in range(n):
+            for j in range(n):
+                M[i, j] = P[j, i]
+        if lu_factor(M, n, lu, piv):
+            lu_solve(lu, piv, n, r, gam)
+            if gam.min() > 0.0:
+                t = 1.0 / gam.sum()
+                for j in range(n):
+                    lam[j] = gam[j] * t
+                return zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, t, P, Wt, lam, n,
+                               0, calls)
+        spread *= 4.0
+    out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE)
+    return (out[0], out[1], out[2], out[3], out[4], out[5] + calls, out[6], out[7], out[8],
+            out[9], out[10])

@@ -1,0 +1,223 @@
+"""Growth distance (issue 4) against the paper's protocol, closed forms, an SOCP and coal."""
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+import graspforce as gf
+from benchmarks.growth_sets import CASES, SCALES, protocol_pairs, random_rotation, scaled_shapes
+
+METHODS = list(gf.METHODS)
+PAIRS = protocol_pairs(12, seed=7)           # 4 per case
+
+
+def shapes(pair, scale):
+    axes, (rb, rt, h) = scaled_shapes(pair, scale)
+    return gf.Ellipsoid(np.zeros(3), np.diag(axes)), gf.TruncatedCone(rb, rt, h)
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("case", list(SCALES))
+def test_paper_protocol(method, case):
+    scale, truth = SCALES[case]
+    for pair in PAIRS:
+        E, C = shapes(pair, scale)
+        res = gf.growth_distance(E, (pair["R_e"], pair["p_e"]), C, (pair["R_c"], pair["p_c"]),
+                                 method=method, eps=1e-10)
+        # the issue's bound at eps = 1e-10; the pair's own construction is exact to ~1e-15
+        assert abs(res.sigma - truth) <= 1e-8, (pair["case"], res.sigma)
+        assert res.sigma_lower <= truth * (1 + 1e-12) and res.sigma >= truth * (1 - 1e-12)
+        assert res.status == {1.0: "touching", 2.0: "separated", 0.5: "penetrating"}[truth]
+        # the contact: the grown shapes touch where the pair was built to touch (the ellipsoid
+        # is strictly convex, so the point and its normal are unique), scaled about p_e and p_c
+        size = max(pair["axes"].max(), pair["h"])
+        assert np.linalg.norm(res.point_a - res.point_b) <= 1e-9 * size
+        q = pair["p_e"] + (truth * scale) * (pair["point"] - pair["p_e"])
+        # a simplex within eps t of a curved surface spreads over a patch of radius
+        # ~sqrt(2 rho eps t): the point is good to ~sqrt(eps) size (measured 1.2e-5 on 180 pairs)
+        assert np.linalg.norm(res.point_a - q) <= 1e-4 * size
+        # from the ellipsoid (A) to the cone (B): the pair's normal points from cone to ellipsoid
+        assert res.normal @ -pair["normal"] >= 1 - 1e-8
+
+
+def test_protocol_covers_every_contact_type():
+    assert {p["case"] for p in PAIRS} == set(CASES)
+
+
+def test_spheres_closed_form():
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        r1, r2 = rng.uniform(0.1, 2.0, 2)
+        c1, c2 = rng.normal(size=3), rng.normal(size=3)
+        res = gf.growth_distance(gf.Ball(np.zeros(3), r1), (random_rotation(rng), c1),
+                                 gf.Ball(np.zeros(3), r2), (random_rotation(rng), c2))
+        assert res.sigma == pytest.approx(np.linalg.norm(c2 - c1) / (r1 + r2), rel=1e-9)
+        assert np.allclose(res.normal, (c2 - c1) / np.linalg.norm(c2 - c1), atol=1e-6)
+
+
+def test_boxes_closed_form():
+    # equal rotations: Delta is the box with half extents a + b, and g = max_i |(R^T r)_i| / (a+b)_i
+    rng = np.random.default_rng(2)
+    for _ in range(20):
+        a, b = rng.uniform(0.1, 1.0, 3), rng.uniform(0.1, 1.0, 3)
+        R = random_rotation(rng)
+        pa, pb = rng.normal(size=3), rng.normal(size=3)
+        truth = np.max(np.abs(R.T @ (pb - pa)) / (a + b))
+        for method in METHODS:
+            res = gf.growth_distance(gf.Box(a), (R, pa), gf.Box(b), (R, pb), method=method)
+            assert res.sigma == pytest.approx(truth, rel=1e-9)
+            assert np.linalg.norm(res.point_a - res.point_b) <= 1e-9 * (1 + truth)
+
+
+def socp_growth(A_kind, A_data, RA, pA, B_kind, B_data, RB, pB):
+    """min sigma s.t. p_A + R_A x_A = p_B + R_B x_B with x_A in sigma A_0, x_B in sigma B_0, for
+    ellipsoids {diag(axes) u : ||u|| <= 1} and boxes {|x_i| <= half_i} (Clarabel)."""
+    import clarabel
+    # variables: sigma, u_A (3), u_B (3); x = diag(axes or half) u
+    A_eq = np.zeros((3, 7))
+    A_eq[:, 1:4] = RA @ np.diag(A_data)
+    A_eq[:, 4:7] = -RB @ np.diag(B_data)
+    rows, b, cones = [A_eq], [pB - pA], [clarabel.ZeroConeT(3)]
+    for kind, cols in ((A_kind, slice(1, 4)), (B_kind, slice(4, 7))):
+        if kind == "ellipsoid":                       # (sigma, u) in SOC
+            block = np.zeros((4, 7))
+            block[0, 0] = -1.0
+            block[1:, cols] = -np.eye(3)
+            rows.append(block)
+            b.append(np.zeros(4))
+            cones.append(clarabel.SecondOrderConeT(4))
+        else:                                         # -sigma <= u_i <= sigma
+            block = np.zeros((6, 7))
+            block[:3, cols], block[:3, 0] = np.eye(3), -1.0
+            block[3:, cols], block[3:, 0] = -np.eye(3), -1.0
+            rows.append(block)
+            b.append(np.zeros(6))
+            cones.append(clarabel.NonnegativeConeT(6))
+    settings = clarabel.DefaultSettings()
+    settings.verbose = False
+    settings.tol_gap_abs = settings.tol_gap_rel = settings.tol_feas = 1e-11
+    q = np.zeros(7)
+    q[0] = 1.0
+    sol = clarabel.DefaultSolver(sp.csc_matrix((7, 7)), q, sp.csc_matrix(np.vstack(rows)),
+                                 np.concatenate(b), cones, settings).solve()
+    return sol.x[0]
+
+
+@pytest.mark.parametrize("kinds", [("ellipsoid", "ellipsoid"), ("box", "ellipsoid"),
+                                   ("box", "box")])
+def test_random_pairs_against_socp(kinds):
+    rng = np.random.default_rng(3)
+    make = {"ellipsoid": lambda d: gf.Ellipsoid(np.zeros(3), np.diag(d)),
+            "box": lambda d: gf.Box(d)}
+    for _ in range(10):
+        da, db = rng.uniform(0.2, 1.5, 3), rng.uniform(0.2, 1.5, 3)
+        RA, RB = random_rotation(rng), random_rotation(rng)
+        pA, pB = rng.normal(0, 2, 3), rng.normal(0, 2, 3)
+        truth = socp_growth(kinds[0], da, RA, pA, kinds[1], db, RB, pB)
+        for method in ("zc-ie", METHODS[rng.integers(len(METHODS))]):
+            res = gf.growth_distance(make[kinds[0]](da), (RA, pA), make[kinds[1]](db), (RB, pB),
+                                     method=method)
+            # Clarabel at 1e-11 tolerances is good to ~1e-9 here
+            assert res.sigma == pytest.approx(truth, rel=1e-7)
+
+
+def test_coal_agrees_at_the_growth_distance():
+    coal = pytest.importorskip("coal")
+    rng = np.random.default_rng(4)
+    for _ in range(10):
+        axes = rng.uniform(0.2, 1.0, 3)
+        radius, height = rng.uniform(0.2, 1.0), rng.uniform(0.5, 2.0)
+        RA, RB = random_rotation(rng), random_rotation(rng)
+        pA, pB = rng.normal(0, 2, 3), rng.normal(0, 2, 3)
+        res = gf.growth_distance(gf.Ellipsoid(np.zeros(3), np.diag(axes)), (RA, pA),
+                                 gf.TruncatedCone(radius, radius, height), (RB, pB))
+        s = res.sigma
+
+        def coal_distance(scale):
+            e = coal.Ellipsoid(*(axes * scale))
+            c = coal.Cylinder(radius * scale, height * scale)
+            return coal.distance(e, coal.Transform3s(RA, pA), c, coal.Transform3s(RB, pB),
+                                 coal.DistanceRequest(), coal.DistanceResult())
+        size = s * max(axes.max(), radius, height)
+        assert abs(coal_distance(s)) <= 1e-6 * size              # touching at sigma
+        assert coal_distance(s * (1 - 1e-4)) > 0                  # slightly smaller: separated
+        assert coal_distance(s * (1 + 1e-4)) < 0                  # slightly larger: penetrating
+
+
+def test_pose_formats_agree():
+    pin = pytest.importorskip("pinocchio")
+    rng = np.random.default_rng(5)
+    A, B = gf.Box([0.3, 0.2, 0.1]), gf.Ellipsoid(np.zeros(3), np.diag([0.2, 0.3, 0.4]))
+    RA, RB = random_rotation(rng), random_rotation(rng)
+    pA, pB = rng.normal(size=3), rng.normal(size=3)
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = RB, pB
+    cold = gf.GrowthDistance(A, B, warm_start=False)      # identical inputs, identical answers
+    ref = cold((RA, pA), (RB, pB)).sigma
+    assert cold(pin.SE3(RA, pA), T).sigma == ref
+    assert cold([RA.tolist(), pA.tolist()], pin.SE3(RB, pB)).sigma == ref
+
+
+def test_reused_solver_matches_one_shot_calls():
+    rng = np.random.default_rng(6)
+    A, B = gf.Capsule(0.2, 0.5), gf.TruncatedCone(0.4, 0.1, 0.6)
+    solver = gf.GrowthDistance(A, B)
+    for _ in range(10):
+        pa = (random_rotation(rng), rng.normal(size=3))
+        pb = (random_rotation(rng), rng.normal(size=3))
+        # both certified to eps = 1e-9 relative (one may be warm-started from the other)
+        res = solver(pa, pb)
+        assert res.sigma == pytest.approx(gf.growth_distance(A, pa, B, pb).sigma, rel=2e-9)
+
+
+def test_warm_start_on_a_moving_pair():
+    A, B = gf.Ellipsoid(np.zeros(3), np.diag([0.3, 0.2, 0.15])), gf.TruncatedCone(0.2, 0.1, 0.4)
+    warm, cold = gf.GrowthDistance(A, B), gf.GrowthDistance(A, B, warm_start=False)
+    saved = 0
+    for k in range(100):
+        th = 2 * np.pi * k / 100
+        pose_b = (random_rotation(np.random.default_rng(k)) if k % 50 == 0 else
+                  _rot_z(th), np.array([0.8 * np.cos(th), 0.6 * np.sin(th), 0.1]))
+        w, c = warm((np.eye(3), np.zeros(3)), pose_b), cold((np.eye(3), np.zeros(3)), pose_b)
+        assert w.sigma_lower <= c.sigma * (1 + 1e-12) and c.sigma_lower <= w.sigma * (1 + 1e-12)
+        saved += c.iterations - w.iterations
+    assert saved > 0
+
+
+def _rot_z(th):
+    return np.array([[np.cos(th), -np.sin(th), 0], [np.sin(th), np.cos(th), 0], [0, 0, 1]])
+
+
+def test_coincident_reference_points():
+    A, B = gf.Ball(np.zeros(3), 1.0), gf.Box([1.0, 2.0, 3.0])
+    res = gf.growth_distance(A, (np.eye(3), np.ones(3)), B, (random_rotation(
+        np.random.default_rng(0)), np.ones(3)))
+    assert res.sigma == 0.0 and res.status == "penetrating"
+    assert np.array_equal(res.point_a, np.ones(3)) and not res.normal.any()
+
+
+def test_identical_shapes():
+    A = gf.TruncatedCone(0.5, 0.2, 1.0)
+    R = random_rotation(np.random.default_rng(8))
+    # the same cone shifted along its own axis by 3: the tops' and bottoms' faces meet at 3 / 2
+    res = gf.growth_distance(A, (R, np.zeros(3)), A, (R, 3.0 * R[:, 2]))
+    assert res.sigma == pytest.approx(3.0, rel=1e-9) and res.status == "separated"
+
+
+def test_bad_input():
+    box = gf.Box([1.0, 1.0, 1.0])
+    I, o = np.eye(3), np.zeros(3)
+    with pytest.raises(ValueError, match="A"):
+        gf.growth_distance(gf.Ellipsoid(np.zeros(3), np.diag([1.0, 1.0, 0.0])), (I, o), box,
+                           (I, o + 3))                                      # flat
+    with pytest.raises(ValueError, match="B"):
+        gf.growth_distance(box, (I, o), gf.Ball(np.array([2.0, 0, 0]), 1.0), (I, o + 3))
+    with pytest.raises(ValueError, match="3-D"):
+        gf.growth_distance(gf.Ball(np.zeros(2), 1.0), (I, o), box, (I, o))
+    with pytest.raises(ValueError, match="pose_a"):
+        gf.growth_distance(box, (2 * I, o), box, (I, o + 3))
+    with pytest.raises(ValueError, match="pose_b"):
+        gf.growth_distance(box, (I, o), box, (I, [np.nan, 0, 0]))
+    with pytest.raises(ValueError, match="pose_b"):
+        gf.growth_distance(box, (I, o), box, np.ones((4, 4)))
+    with pytest.raises(ValueError, match="method"):
+        gf.growth_distance(box, (I, o), box, (I, o + 3), method="newton")
