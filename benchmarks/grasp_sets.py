@@ -88,6 +88,12 @@ def ingot_grasp_sets(mu=MU, mu_s=MU_S):
     return W, ellipsoids
 
 
+def ingot_grasp(mu=MU, mu_s=MU_S):
+    """The same four contacts as a gf.Grasp (for Grasp.min_force and the baselines)."""
+    import graspforce as gf
+    return gf.Grasp(gf.Contact(p, n, mu, mu_s, tangents=(o, t)) for p, n, o, t in ingot_contacts())
+
+
 def random_wrenches(k, seed=0):
     """k random external wrenches (k, 6): forces ~ N(0, 10 N), torques ~ N(0, 0.5 Nm) per component.
 

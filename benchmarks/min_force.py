@@ -26,16 +26,11 @@ import sys
 
 import numpy as np
 
-from benchmarks.grasp_sets import MU, MU_S, ingot_contacts, random_wrenches
+from benchmarks.grasp_sets import MU, MU_S, ingot_grasp, random_wrenches
 from benchmarks.ray_shoot import PAPER_TABLES, _cpu_name, _timed_pass
 
 METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie")
 HERE = os.path.dirname(os.path.abspath(__file__))
-
-
-def ingot_grasp():
-    import graspforce as gf
-    return gf.Grasp(gf.Contact(p, n, MU, MU_S, tangents=(o, t)) for p, n, o, t in ingot_contacts())
 
 
 def cone_violation(contact, f, scale):

@@ -35,7 +35,8 @@ import time
 
 import numpy as np
 
-from benchmarks.grasp_sets import ingot_ellipsoids, ingot_grasp_sets, random_wrenches, support_L1
+from benchmarks.grasp_sets import (ingot_ellipsoids, ingot_grasp, ingot_grasp_sets, random_wrenches,
+                                   support_L1)
 
 METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie")
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -228,7 +229,6 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
 
     # --- Clarabel baseline
     # benchmarks.min_force imports this module: import it here, not at the top
-    from benchmarks.min_force import ingot_grasp
     cl = ClarabelRayShooter(ingot_grasp())
     cl_times, cl_t = _timed_pass(cl.update_solve, rays)
     cl_t = np.array(cl_t)
