@@ -8,6 +8,7 @@ from numba import njit
 
 from ._corral import combine, corral, set_row
 from ._kernel import support
+from ._linalg import dot
 
 CONVERGED = 0   # GJK: h_A(n) - n^T v within tolerance;  ZC: h_{A - shift}(n) within tolerance
 INSIDE = 1      # the target is in CH(V) (GJK) or in CO(V - shift) (ZC): distance zero
@@ -43,7 +44,7 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
     if k == 0:
         for i in range(n):
             nvec[i] = b[i]
-        if np.sqrt(np.dot(b, b)) == 0.0:
+        if np.sqrt(dot(b, b)) == 0.0:
             nvec[0] = 1.0
         support(ints, floats, nvec, point, wit)
         calls += 1
@@ -52,7 +53,7 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
         k = 1
     else:
         k, _ = corral(P, Wt, lam, k, b, b, True, D, work, rhs, wrhs, x)
-    tiny = ROUNDING * (np.sqrt(np.dot(b, b)) + np.sqrt(np.dot(P[0], P[0]))) + 1e-300
+    tiny = ROUNDING * (np.sqrt(dot(b, b)) + np.sqrt(dot(P[0], P[0]))) + 1e-300
     d = np.inf
     h = 0.0
     for it in range(max_iter):
@@ -69,7 +70,7 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
             nvec[i] /= d
         h = support(ints, floats, nvec, point, wit)
         calls += 1
-        offset = np.dot(nvec, v)
+        offset = dot(nvec, v)
         ref = abs(offset) if rel_to_offset else d
         if h - offset <= eps_abs + eps_rel * ref:
             return CONVERGED, k, d, h, it + 1, calls
@@ -93,13 +94,13 @@ def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, n
     n = target.shape[0]
     D, work, rhs, wrhs, x = scratch(n)
     calls = 0
-    tnorm = np.sqrt(np.dot(target, target))
+    tnorm = np.sqrt(dot(target, target))
     if k == 0:
         for i in range(n):
             nvec[i] = target[i] / tnorm
-        h = support(ints, floats, nvec, point, wit) - np.dot(nvec, shift)
+        h = support(ints, floats, nvec, point, wit) - dot(nvec, shift)
         calls += 1
-        if h <= eps_abs + eps_rel * np.dot(nvec, shift):
+        if h <= eps_abs + eps_rel * dot(nvec, shift):
             # the hyperplane through `shift` with normal `target` already supports A (within
             # the same rule as below: shift may sit a rounding error inside a vertex)
             v[:] = 0.0
@@ -141,9 +142,9 @@ def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, n
             return INSIDE, k, 0.0, h, it, calls
         for i in range(n):
             nvec[i] /= d
-        h = support(ints, floats, nvec, point, wit) - np.dot(nvec, shift)
+        h = support(ints, floats, nvec, point, wit) - dot(nvec, shift)
         calls += 1
-        if h <= eps_abs + eps_rel * np.dot(nvec, shift):
+        if h <= eps_abs + eps_rel * dot(nvec, shift):
             return CONVERGED, k, d, h, it + 1, calls
         set_row(P, Wt, k, point, wit)
         lam[k] = 0.0

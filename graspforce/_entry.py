@@ -3,6 +3,7 @@ import numpy as np
 from numba import njit
 
 from ._distance import gjk, zc
+from ._linalg import dot
 
 
 @njit(cache=True)
@@ -17,7 +18,7 @@ def closest_point(ints, floats, b, ws, eps, max_iter):
     wit = np.empty(ws)
     st, k, d, h, it, calls = gjk(ints, floats, b, P, Wt, lam, 0, eps, 0.0, False, max_iter,
                                  nvec, v, point, wit)
-    gap = h - np.dot(nvec, v) if st != 1 else 0.0
+    gap = h - dot(nvec, v) if st != 1 else 0.0
     return st, d, gap, it, calls, v.copy(), P[:k].copy(), lam[:k].copy(), Wt[:k].copy()
 
 

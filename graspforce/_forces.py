@@ -3,10 +3,12 @@ import numpy as np
 from numba import njit
 
 from ._dispatch import shoot
+from ._linalg import dot
 from ._shooters import MISS
 
 # rows of a wrench space's leaf table (graspforce.wrench_space.WrenchSpace.table)
 CONTACT, SLOT, SIZE, MAP = 0, 1, 2, 3
+ORIGIN_FLOOR = 1e-12   # |z| <= this times W's size: z is the origin to rounding
 
 
 @njit(cache=True)
@@ -15,12 +17,20 @@ def shoot_and_read_forces(ints, floats, r, ws, method, eps, max_iter, G, table, 
     """One compiled call per min_force: z = t r on W by `method`, then the forces read off Z_W(r).
 
     Returns (raw ray-shooting result, forces (m, 4), wrenches (m, 6), resultant (6,), sigma);
-    zero forces and sigma = inf when the ray misses W or leaves it at the origin.
+    zero forces and sigma = inf when the ray misses W or leaves it at the origin (to rounding).
     """
     out = shoot(ints, floats, r, ws, method, eps, max_iter)
     t = out[1]
     m = G.shape[0]
-    if out[0] == MISS or not t > 0.0:
+    V = out[7]
+    size = 0.0
+    for k in range(V.shape[0]):
+        for a in range(V.shape[1]):
+            size = max(size, abs(V[k, a]))
+    # a point of W at t r with |t r| at the rounding of W's size is the origin: an Linf set
+    # contains 0, and a ray that leaves W there has no finite forces (the witnesses' forces,
+    # scaled by 1/t, would be rounding blown up)
+    if out[0] == MISS or not t * np.sqrt(dot(r, r)) > ORIGIN_FLOOR * size:
         return out, np.zeros((m, 4)), np.zeros((m, 6)), np.zeros(6), np.inf
     forces, wrenches, resultant, sigma = contact_forces(out[9], out[8], 1.0 / t, G, table, maps,
                                                        linf, full, spin_weight)

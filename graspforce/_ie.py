@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit
 
 from ._kernel import support
-from ._linalg import lu_factor, lu_solve, lu_solve_t
+from ._linalg import dot, lu_factor, lu_solve, lu_solve_t
 from ._shooters import FACET, HIT, LIMIT, UNTIL_FACET, _result, zc_from, zc_family
 
 FACE_TOL = 1e-12      # gam_l <= FACE_TOL * sum(gam): vertex l is not in the face of b_k
@@ -45,7 +45,7 @@ def _facet(pool, idx, r, M, lu, piv, ones, y, gam):
         return False
     lu_solve_t(lu, piv, n, ones, y)
     lu_solve(lu, piv, n, r, gam)
-    return np.dot(y, r) > 0.0
+    return dot(y, r) > 0.0
 
 
 @njit(cache=True)
@@ -141,7 +141,7 @@ def ie(ints, floats, r, ws, eps, max_iter):
     if not _facet(pool, F[0], r, M, lu, piv, ones, Y[0], GAM[0]):
         return zc_family(ints, floats, r, ws, eps, max_iter, 0)
     nf = 1
-    t = 1.0 / np.dot(Y[0], r)
+    t = 1.0 / dot(Y[0], r)
     best = 0
     h = 0.0
     ny = 1.0
@@ -151,7 +151,7 @@ def ie(ints, floats, r, ws, eps, max_iter):
         best = 0
         by = 0.0
         for f in range(nf):
-            yy = np.dot(Y[f], Y[f])
+            yy = dot(Y[f], Y[f])
             if yy > by:
                 by = yy
                 best = f
@@ -172,7 +172,7 @@ def ie(ints, floats, r, ws, eps, max_iter):
         npts += 1
         all_visible = True
         for f in range(nf):
-            visible[f] = np.dot(Y[f], point) > 1.0 + BEYOND_TOL
+            visible[f] = dot(Y[f], point) > 1.0 + BEYOND_TOL
             all_visible = all_visible and visible[f]
         nf2 = 0
         if nf == 1 and GAM[0].min() > FACE_TOL * GAM[0].sum():
@@ -183,7 +183,7 @@ def ie(ints, floats, r, ws, eps, max_iter):
                 idx[:] = F[0]
                 idx[js] = q
                 if _facet(pool, idx, r, M, lu, piv, ones, y, gam):
-                    yr = np.dot(y, r)
+                    yr = dot(y, r)
                     if gam.min() > FACE_TOL * yr:
                         F[0] = idx
                         Y[0] = y
@@ -202,7 +202,7 @@ def ie(ints, floats, r, ws, eps, max_iter):
                     idx[a] = q
                     if not _facet(pool, idx, r, M, lu, piv, ones, y, gam):
                         continue
-                    yr = np.dot(y, r)
+                    yr = dot(y, r)
                     if gam.min() < -FACE_TOL * yr:
                         continue
                     tc = 1.0 / yr
@@ -294,7 +294,7 @@ def _face(pool, pwit, facet, gam, t):
 @njit(cache=True)
 def _ie_result(status, t, pool, pwit, facet, gam, nvec, h, ny, r, it, calls, singular):
     V, W, lam, k = _face(pool, pwit, facet, gam, t)
-    t_up = h / np.dot(nvec, r)
+    t_up = h / dot(nvec, r)
     return _result(status, t, t_up, h, it, calls, nvec, V, lam, W, k, singular)
 
 

@@ -138,8 +138,9 @@ def _cone_cap_support(f, p, d, wit, w):
         q2 += f[d + a] * f[d + a]
     q = np.sqrt(q2)
     ny = np.sqrt(y1 * y1 + q2)
-    if q <= mu * y1:
-        # y in K: the cap's point is y itself, normalized (e_1 for y = 0)
+    if y1 >= 0.0 and q <= mu * y1:
+        # y in K: the cap's point is y itself, normalized (e_1 for y = 0). The sign test is
+        # not redundant: with mu = 0 and q = 0, q <= mu y1 holds for y1 < 0 too (0 <= -0.0)
         if ny > 0.0:
             for a in range(n):
                 f[d + n + a] = f[d + a] / ny

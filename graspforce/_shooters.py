@@ -18,7 +18,7 @@ from numba import njit
 from ._corral import drop_point, set_row
 from ._distance import CONVERGED, INSIDE, MAX_ITER, STALLED, gjk, scratch, zc
 from ._kernel import support
-from ._linalg import lstsq, lu_factor, lu_solve, lu_solve_t
+from ._linalg import dot, lstsq, lu_factor, lu_solve, lu_solve_t
 
 HIT = 0
 MISS = 1
@@ -56,8 +56,9 @@ def _keep(P, Wt, lam, k, Pz, Wz, lz):
 
 
 @njit(cache=True)
-def _miss(ints, floats, r, ws, iters, calls, max_iter):
-    """A miss with its certificate: ZC from the origin finds n with h_A(n) < 0 < n^T r."""
+def _miss(ints, floats, r, ws, eps, iters, calls, max_iter):
+    """A miss with its certificate: ZC from the origin finds n with h_A(n) < 0 < n^T r; or, when
+    ZC finds r in CO(A), the hit that ZC-IE then computes."""
     n = r.shape[0]
     P = np.empty((n + 1, n))
     Wt = np.empty((n + 1, ws))
@@ -68,6 +69,12 @@ def _miss(ints, floats, r, ws, iters, calls, max_iter):
     wit = np.empty(ws)
     st, k, d, h, it, c = zc(ints, floats, np.zeros(n), r, P, Wt, lam, 0, 0.0, 0.0, max_iter,
                             nvec, v, point, wit)
+    if st == INSIDE:
+        # r is in CO(A) after all: the caller's miss test was rounding (seen with GJK on a flat
+        # A whose affine span holds the ray), and the ray meets A. ZC-IE decides it.
+        out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE)
+        return (out[0], out[1], out[2], out[3], out[4] + iters + it, out[5] + calls + c,
+                out[6], out[7], out[8], out[9], out[10] + 1)
     status = MISS if st != MAX_ITER else LIMIT
     return _result(status, 0.0, 0.0, h, iters + it, calls + c, nvec, P, lam, Wt, 0, 0)
 
@@ -114,7 +121,7 @@ def _on_ray(P, k, b, x, tol):
 def gjk_based(ints, floats, r, ws, eps, max_iter):
     """Section 3.1: b_k outside A walks down the ray by eq. (4), stopped by Fig. 3b's rule."""
     n = r.shape[0]
-    rr = np.dot(r, r)
+    rr = dot(r, r)
     P = np.empty((n + 2, n))
     Wt = np.empty((n + 2, ws))
     lam = np.empty(n + 2)
@@ -126,7 +133,7 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
     h0 = support(ints, floats, r, point, wit)
     calls = 1
     if h0 <= 0.0:
-        return _miss(ints, floats, r, ws, 0, calls, max_iter)
+        return _miss(ints, floats, r, ws, eps, 0, calls, max_iter)
     t = h0 / rr
     t_up = t
     best_n = r / np.sqrt(rr)
@@ -149,15 +156,15 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
                            calls)
         if st == MAX_ITER:
             return _result(LIMIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
-        rn = np.dot(r, nvec)
+        rn = dot(r, nvec)
         if rn <= 0.0:
-            return _miss(ints, floats, r, ws, it + 1, calls, max_iter)
+            return _miss(ints, floats, r, ws, eps, it + 1, calls, max_iter)
         t_next = t - d / rn
         if t_floor < 0.0:
             t_floor = max(-support(ints, floats, -r, point, wit), 0.0) / rr
             calls += 1
         if t_next < t_floor:
-            return _miss(ints, floats, r, ws, it + 1, calls, max_iter)
+            return _miss(ints, floats, r, ws, eps, it + 1, calls, max_iter)
         if h / rn < t_up:
             t_up = h / rn
             best_n[:] = nvec
@@ -306,7 +313,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                 _matvec_t_ones(B, n, y)
                 _matvec(B, n, r, gam)
             if ok:
-                yr = np.dot(y, r)
+                yr = dot(y, r)
                 ok = yr > 0.0 and gam.min() >= -1e-12 * yr
             if not ok and age > 0:
                 age = -1          # perhaps only drift in the updated inverse: refactor first
@@ -333,7 +340,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                 singular += 1
             else:
                 t = 1.0 / yr
-                ny = np.sqrt(np.dot(y, y))
+                ny = np.sqrt(dot(y, y))
                 for i in range(n):
                     nvec[i] = y[i] / ny
                 h = support(ints, floats, nvec, point, wit)
@@ -352,8 +359,8 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     _invert(P, n, M, lu, piv, B, col)
                     lu_solve_t(lu, piv, n, ones, y)
                     lu_solve(lu, piv, n, r, gam)
-                    yr = np.dot(y, r)
-                    nr = np.dot(nvec, r)
+                    yr = dot(y, r)
+                    nr = dot(nvec, r)
                     if yr > 0.0 and gam.min() >= 0.0 and h / nr - 1.0 / yr <= eps / yr:
                         t = 1.0 / yr
                         for j in range(n):
@@ -413,8 +420,8 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
             # on the boundary of CO(A) to rounding: the ray at most grazes A, reported a miss.
             return _result(MISS, 0.0, 0.0, h, it, calls, nvec, P, lam, Wt, 0, 0)
         # converged (or stalled at rounding): z = b_k, supported by H(n, s_A(n))
-        h_n = h + t * np.dot(nvec, r)
-        return _result(HIT, t, h_n / np.dot(nvec, r), h_n, it, calls, nvec, Pz, lz, Wz, kz,
+        h_n = h + t * dot(nvec, r)
+        return _result(HIT, t, h_n / dot(nvec, r), h_n, it, calls, nvec, Pz, lz, Wz, kz,
                        singular)
     return _result(LIMIT, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz, singular)
 
@@ -424,7 +431,7 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
     """Section 3.4.1: bisection between a point of A on the ray (from ZC) and a point outside
     (from supporting hyperplanes), each midpoint tested by GJK."""
     n = r.shape[0]
-    rr = np.dot(r, r)
+    rr = dot(r, r)
     P = np.empty((n + 2, n))
     Wt = np.empty((n + 2, ws))
     lam = np.empty(n + 2)
@@ -470,7 +477,7 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
             t_lo = tm
             kz = _keep(P, Wt, lam, k, Pz, Wz, lz)
             continue
-        rn = np.dot(r, nvec)
+        rn = dot(r, nvec)
         if rn > 0.0 and h / rn < t_up:
             t_up = h / rn
             best_n[:] = nvec

@@ -81,11 +81,11 @@ class Grasp:
         out, forces, wrenches, resultant, sigma = shoot_and_read_forces(
             ints, floats, r, W.witness_size, code, eps, max_iter, self._matrices, space.table,
             space.maps, norm == "Linf", magnitude == "full", space.spin_weight)
-        status, t = out[0], out[1]
-        if status == S.MISS or (status == S.HIT and not t > 0.0):
+        status = out[0]
+        if status == S.MISS or (status == S.HIT and sigma == math.inf):
             # a separating hyperplane, or a ray that leaves W at the origin: no finite forces
             return self._without_forces(space, "infeasible", math.inf, method, (W, r, out))
-        if not t > 0.0:
+        if sigma == math.inf:
             return self._without_forces(space, "max_iter", math.inf, method, (W, r, out))
         return MinForce(
             feasible=True, status="optimal" if status == S.HIT else "max_iter", sigma=sigma,
@@ -120,11 +120,14 @@ class Grasp:
         W = self.wrench_set("L1", "normal")
         return bool(facet_expansion(W, 0.0, tol, max_iter, stop_at_closure=True)[0])
 
-    def quality(self, norm="L1", magnitude="normal", eps=1e-6, tol=1e-9, max_iter=2000):
+    def quality(self, norm="L1", magnitude="normal", eps=1e-3, tol=1e-9, max_iter=500):
         """The Ferrari-Canny quality: the largest Q such that every wrench of norm <= Q is resisted
         by contact forces of overall magnitude <= 1 (measured by norm and magnitude, eq. 13/15),
         i.e. the radius of the largest origin-centred ball in W. Bracketed to relative eps by
-        facet expansion (graspforce.quality); 0 when the grasp is not force-closure.
+        facet expansion (graspforce.quality); 0 when the grasp is not force-closure. In R^6 a
+        polytope inside a curved W needs ~eps^(-5/2) points to come within eps of it, so tight
+        brackets are expensive (1e-4: ~1 s on a 3-finger grasp); after max_iter steps the
+        current, still certified, bracket is returned.
         """
         return grasp_quality(self.wrench_set(norm, magnitude), norm, magnitude, eps, tol,
                              max_iter)

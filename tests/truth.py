@@ -658,3 +658,162 @@ def cone_distance_nnls(V, b):
     coef, rnorm = scipy.optimize.nnls(V.T, b, maxiter=50 * V.shape[0])
     x = V.T @ coef
     return float(np.linalg.norm(b - x)), x, coef
+
+
+# ----------------------------------------------------------------------------------------------
+# grasps (section 5): a contact is a plain triple (G (6, 4) of eq. 11, mu, mu_s); mu_s = 0 is a
+# point contact (f_4 = 0), mu = 0 a frictionless one (f_2 = f_3 = f_4 = 0)
+# ----------------------------------------------------------------------------------------------
+def soc_projection_norm(y, mu):
+    """||Pi_K(y)|| for K = {g : ||g_2:n|| <= mu g_1} (mu >= 0), by the three cases of the
+    projection onto a second-order cone: y in K, y in the polar cone {mu ||y_2:n|| <= -y_1},
+    else the projection onto the boundary ray in the plane of e_1 and y, whose length is the
+    component of y along that ray's unit vector (1, mu y_perp/||y_perp||)/sqrt(1 + mu^2)."""
+    y = np.asarray(y, dtype=float)
+    y1, q = y[0], float(np.linalg.norm(y[1:]))
+    if y1 >= 0.0 and q <= mu * y1:        # (y1 >= 0: with mu = 0, -0.0 >= 0 holds)
+        return float(np.linalg.norm(y))
+    if mu * q <= -y1:
+        return 0.0
+    return float((y1 + mu * q) / np.sqrt(1.0 + mu * mu))
+
+
+def _contact_dims(mu, mu_s):
+    """The local components a contact uses: f_1; f_2, f_3 with friction; f_4 if soft."""
+    return [0] if mu == 0.0 else ([0, 1, 2, 3] if mu_s > 0.0 else [0, 1, 2])
+
+
+def contact_support(G, mu, mu_s, u, magnitude):
+    """Support in direction u of {G f : f in F (eq. 12), measure(f) <= 1}, the origin included.
+
+    normal: the unit-normal-force cross-section is the ellipse {f_1 = 1, ...} (NOTES.md item 3),
+    h = max(0, y_1 + sqrt(mu^2 (y_2^2 + y_3^2) + mu_s^2 y_4^2)), y = G^T u.
+    full (eq. 15): h = ||Pi_K(D^{-1} y)||, D = diag(1, 1, 1, mu/mu_s) on the contact's components.
+    """
+    y = np.asarray(G, dtype=float).T @ np.asarray(u, dtype=float)
+    if magnitude == "normal":
+        return max(0.0, float(y[0] + np.sqrt(mu * mu * (y[1] ** 2 + y[2] ** 2)
+                                             + mu_s * mu_s * y[3] ** 2)))
+    yl = y[_contact_dims(mu, mu_s)]
+    if yl.size == 4:
+        yl = yl * np.array([1.0, 1.0, 1.0, mu_s / mu])
+    return soc_projection_norm(yl, mu)
+
+
+def grasp_support(contacts, u, norm, magnitude):
+    """h_W(u) for W = CH({0} U W_1 U ... U W_m) (L1) or sum_i CH({0} U W_i) (Linf): the minimum
+    overall force resisting w_ext is >= (u.r) / h_W(u) for every u with u.r > 0, r = -w_ext."""
+    h = [contact_support(G, mu, ms, u, magnitude) for G, mu, ms in contacts]
+    return float(max(h)) if norm == "L1" else float(sum(h))
+
+
+def contact_objective(forces, contacts, norm, magnitude):
+    """sigma of eq. (13) or (15) for local forces (m, 4)."""
+    values = []
+    for f, (_, mu, mu_s) in zip(np.asarray(forces, dtype=float), contacts):
+        if magnitude == "normal":
+            values.append(f[0])
+        else:
+            spin = (mu / mu_s) ** 2 * f[3] ** 2 if mu_s > 0.0 else 0.0
+            values.append(np.sqrt(f[0] ** 2 + f[1] ** 2 + f[2] ** 2 + spin))
+    return float(sum(values) if norm == "L1" else max(values))
+
+
+def min_force_socp(contacts, w_ext, norm, magnitude, equal=False, tol=1e-11):
+    """min sigma (eq. 13 or 15) s.t. sum_i G_i f_i = -w_ext, f_i in F_i, with Clarabel.
+
+    equal=True adds f_i1 = tau for every contact (norm "Linf", magnitude "normal"): the literal
+    CH(W_1 + ... + W_m) of eq. (14), in which every contact pushes with the same normal force.
+    Variables: f_1..f_m (4 each), then s_1..s_m (full magnitude), then tau (Linf).
+    Returns (status, sigma, forces (m, 4), u) with status "optimal" or "infeasible" (anything else
+    raises) and u the dual of the equilibrium rows, oriented so that u.r = the dual objective
+    (a direction for the certificate sigma >= u.r / h_W(u), r = -w_ext).
+    """
+    m = len(contacts)
+    w = np.asarray(w_ext, dtype=float)
+    full = magnitude == "full"
+    ns = 4 * m
+    nt = ns + (m if full else 0)
+    nvar = nt + (1 if norm == "Linf" else 0)
+    blocks = []                    # (cone, rows of A as dicts {var: coef}, b)
+
+    def block(cone, rows, b):
+        blocks.append((cone, rows, b))
+
+    # equilibrium, then the components a contact does not have, then the literal-eq.-14 rows
+    eq_rows = [{4 * i + b: G[a, b] for i, (G, _, _) in enumerate(contacts) for b in range(4)
+                if G[a, b] != 0.0} for a in range(6)]
+    eq_b = list(-w)
+    for i, (_, mu, ms) in enumerate(contacts):
+        for b in sorted(set(range(4)) - set(_contact_dims(mu, ms))):
+            eq_rows.append({4 * i + b: 1.0})
+            eq_b.append(0.0)
+        if equal:
+            eq_rows.append({4 * i: 1.0, nt: -1.0})
+            eq_b.append(0.0)
+    block(clarabel.ZeroConeT(len(eq_rows)), eq_rows, eq_b)
+    for i, (_, mu, ms) in enumerate(contacts):
+        dims = _contact_dims(mu, ms)
+        if len(dims) == 1:
+            block(clarabel.NonnegativeConeT(1), [{4 * i: -1.0}], [0.0])
+        else:
+            # (mu f_1, f_2, f_3, (mu/mu_s) f_4): eq. (12) times mu, well scaled for small mu_s
+            scale = [mu, 1.0, 1.0, mu / ms if ms > 0.0 else 0.0]
+            block(clarabel.SecondOrderConeT(len(dims)),
+                  [{4 * i + b: -scale[b]} for b in dims], [0.0] * len(dims))
+        if full:
+            weight = [1.0, 1.0, 1.0, mu / ms if ms > 0.0 else 0.0]
+            block(clarabel.SecondOrderConeT(1 + len(dims)),
+                  [{ns + i: -1.0}] + [{4 * i + b: -weight[b]} for b in dims],
+                  [0.0] * (1 + len(dims)))
+    if norm == "Linf":
+        value = [(4 * i) if not full else (ns + i) for i in range(m)]
+        block(clarabel.NonnegativeConeT(m), [{k: 1.0, nvar - 1: -1.0} for k in value], [0.0] * m)
+    q = np.zeros(nvar)
+    if norm == "Linf":
+        q[nvar - 1] = 1.0
+    elif full:
+        q[ns:ns + m] = 1.0
+    else:
+        q[0:ns:4] = 1.0
+
+    rows, cols, vals, b, cones = [], [], [], [], []
+    for cone, brows, bb in blocks:
+        for row in brows:
+            for col, v in row.items():
+                rows.append(len(b))
+                cols.append(col)
+                vals.append(v)
+            b.append(0.0)
+        b[len(b) - len(brows):] = bb
+        cones.append(cone)
+    A = sp.csc_matrix((vals, (rows, cols)), shape=(len(b), nvar))
+    # Clarabel sometimes stops (InsufficientProgress, NumericalError) at the tightest
+    # tolerances on nearly infeasible grasps (forces ~400 |w|): retry with tighter iterative
+    # refinement, shorter steps, then looser tolerances (the comparisons allow 1e-6)
+    refine = {"iterative_refinement_reltol": 1e-14, "iterative_refinement_abstol": 1e-14,
+              "iterative_refinement_max_iter": 50}
+    attempts = [(tol, {}), (tol, refine), (tol, {"max_step_fraction": 0.9}), (1e-9, refine),
+                (1e-8, {})]
+    for tol_used, options in attempts:
+        st = clarabel.DefaultSettings()
+        st.verbose = False
+        st.max_iter = 500
+        st.tol_gap_abs = st.tol_gap_rel = st.tol_feas = tol_used
+        st.tol_ktratio = min(1e-8, 100 * tol_used)
+        for key, value in options.items():
+            setattr(st, key, value)
+        sol = clarabel.DefaultSolver(sp.csc_matrix((nvar, nvar)), q, A, np.array(b), cones,
+                                     st).solve()
+        status = str(sol.status)
+        if _status_infeasible(status):
+            return "infeasible", np.inf, None, None
+        if _status_ok(status):
+            break
+    else:
+        raise AssertionError(f"Clarabel: {status}")
+    x = np.array(sol.x)
+    forces = x[:ns].reshape(m, 4)
+    # dual objective -b^T z = w^T z_eq: with r = -w, u = -z_eq gives u.r = the dual value
+    u = -np.array(sol.z)[:6]
+    return "optimal", float(sol.obj_val), forces, u
