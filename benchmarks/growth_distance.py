@@ -125,10 +125,10 @@ def protocol_rows(pairs, eps, methods, log):
                 times.append(dt)
                 errors.append(abs(res.sigma - truth))
                 iters.append(res.iterations)
-            rows[(case, method)] = dict(median_us=np.median(times) / 1e3,
-                                        mean_us=np.mean(times) / 1e3,
-                                        mean_err=np.mean(errors), max_err=np.max(errors),
-                                        mean_iters=np.mean(iters))
+            rows[(case, method)] = {"median_us": np.median(times) / 1e3,
+                                    "mean_us": np.mean(times) / 1e3,
+                                    "mean_err": np.mean(errors), "max_err": np.max(errors),
+                                    "mean_iters": np.mean(iters)}
             log(f"{case} {method}: median {rows[(case, method)]['median_us']:.1f} us, "
                 f"max error {rows[(case, method)]['max_err']:.1e}")
         times, errors = [], []
@@ -137,9 +137,9 @@ def protocol_rows(pairs, eps, methods, log):
                                         p["R_c"], p["p_c"])
             times.append(dt)
             errors.append(abs(sigma - truth))
-        rows[(case, "clarabel")] = dict(median_us=np.median(times) / 1e3,
-                                        mean_us=np.mean(times) / 1e3, mean_err=np.mean(errors),
-                                        max_err=np.max(errors), mean_iters=float("nan"))
+        rows[(case, "clarabel")] = {"median_us": np.median(times) / 1e3,
+                                    "mean_us": np.mean(times) / 1e3, "mean_err": np.mean(errors),
+                                    "max_err": np.max(errors), "mean_iters": float("nan")}
     return rows
 
 
@@ -157,8 +157,8 @@ def random_rows(shapes, eps, methods, log):
             iters.append(res.iterations)
             values.append(res.sigma)
         sigmas[method] = np.array(values)
-        rows[method] = dict(median_us=np.median(times) / 1e3, mean_us=np.mean(times) / 1e3,
-                            mean_iters=np.mean(iters))
+        rows[method] = {"median_us": np.median(times) / 1e3, "mean_us": np.mean(times) / 1e3,
+                        "mean_iters": np.mean(iters)}
         log(f"random {method}: median {rows[method]['median_us']:.1f} us")
     times, values = [], []
     for i, j in pairs:
@@ -167,40 +167,87 @@ def random_rows(shapes, eps, methods, log):
         times.append(dt)
         values.append(sigma)
     clar = np.array(values)
-    rows["clarabel"] = dict(median_us=np.median(times) / 1e3, mean_us=np.mean(times) / 1e3,
-                            mean_iters=float("nan"))
+    rows["clarabel"] = {"median_us": np.median(times) / 1e3, "mean_us": np.mean(times) / 1e3,
+                        "mean_iters": float("nan")}
     for method in methods:
         rows[method]["max_rel_vs_clarabel"] = np.max(np.abs(sigmas[method] / clar - 1))
     return rows, len(pairs)
 
 
-def warm_start_rows(eps, steps=400):
-    """A truncated cone circling and tumbling around an ellipsoid: one GrowthDistance, cold and
-    warm (time coherence)."""
-    import graspforce as gf
+def warm_start_rows(eps, steps=(400, 4000)):
+    """A truncated cone circling and tumbling around an ellipsoid, once around in `steps` poses
+    (about 0.02 and 0.002 rad of normal change per call): one GrowthDistance, cold and warm
+    (time coherence)."""
     from scipy.spatial.transform import Rotation
+
+    import graspforce as gf
     A = gf.Ellipsoid(np.zeros(3), np.diag([0.3, 0.2, 0.15]))
     B = gf.TruncatedCone(0.2, 0.1, 0.4)
-    poses = []
-    for k in range(steps):
-        th = 2 * np.pi * k / steps
-        pose_b = (Rotation.from_rotvec([th, 0.5 * th, 0.2]).as_matrix(),
-                  np.array([0.8 * np.cos(th), 0.6 * np.sin(th), 0.1 * np.sin(3 * th)]))
-        poses.append(((Rotation.from_rotvec([0, 0, 0.3 * th]).as_matrix(), np.zeros(3)), pose_b))
     out = {}
-    for warm in (False, True):
-        solver = gf.GrowthDistance(A, B, "zc-ie", eps, warm_start=warm)
-        for pa, pb in poses[:10]:
-            solver(pa, pb)
-        times, iters = [], []
-        for pa, pb in poses:
-            t0 = time.perf_counter_ns()
-            res = solver(pa, pb)
-            times.append(time.perf_counter_ns() - t0)
-            iters.append(res.iterations)
-        out["warm" if warm else "cold"] = dict(median_us=np.median(times) / 1e3,
-                                               mean_iters=np.mean(iters))
+    for n in steps:
+        poses = []
+        for k in range(n):
+            th = 2 * np.pi * k / n
+            pose_b = (Rotation.from_rotvec([th, 0.5 * th, 0.2]).as_matrix(),
+                      np.array([0.8 * np.cos(th), 0.6 * np.sin(th), 0.1 * np.sin(3 * th)]))
+            poses.append(((Rotation.from_rotvec([0, 0, 0.3 * th]).as_matrix(), np.zeros(3)),
+                          pose_b))
+        for warm in (False, True):
+            solver = gf.GrowthDistance(A, B, "zc-ie", eps, warm_start=warm)
+            for pa, pb in poses[:10]:
+                solver(pa, pb)
+            times, iters = [], []
+            for pa, pb in poses:
+                t0 = time.perf_counter_ns()
+                res = solver(pa, pb)
+                times.append(time.perf_counter_ns() - t0)
+                iters.append(res.iterations)
+            out[(n, "warm" if warm else "cold")] = {"median_us": np.median(times) / 1e3,
+                                                    "mean_iters": np.mean(iters)}
     return out
+
+
+def time_split(pairs, eps, method="zc-ie"):
+    """Where a query's time goes (contact case): the whole Python call, the compiled query alone
+    (graspforce._growth.query: pose checks, rotations written in place, the shooter), and the
+    support calls alone (mean calls per query times one call's cost, from a compiled loop)."""
+    from numba import njit
+
+    import graspforce as gf
+    from graspforce._growth import query
+    from graspforce._kernel import support
+
+    @njit(cache=False)
+    def support_loop(ints, floats, U, ws):
+        point, wit = np.empty(3), np.empty(ws)
+        s = 0.0
+        for i in range(U.shape[0]):
+            s += support(ints, floats, U[i], point, wit)
+        return s
+
+    full, compiled, calls, per_call = [], [], [], []
+    U = np.random.default_rng(0).normal(size=(2000, 3))
+    for p in pairs[:500]:
+        axes, cone = scaled_shapes(p, 1.0)
+        g = gf.GrowthDistance(make_shape("ellipsoid", axes), make_shape("cone", cone), method,
+                              eps, warm_start=False)
+        pa, pb = (p["R_e"], p["p_e"]), (p["R_c"], p["p_c"])
+        dt, res = timed_query(g, pa, pb)
+        full.append(dt)
+        calls.append(res.support_calls)
+        args = (g._ints, g._floats, g._ma, g._mb, g._ws, *pa, *pb, g._code, eps, g.max_iter,
+                False, np.zeros(3), 0.05)
+        query(*args)
+        t0 = time.perf_counter_ns()
+        query(*args)
+        compiled.append(time.perf_counter_ns() - t0)
+        support_loop(g._ints, g._floats, U, g._ws)
+        t0 = time.perf_counter_ns()
+        support_loop(g._ints, g._floats, U, g._ws)
+        per_call.append((time.perf_counter_ns() - t0) / len(U))
+    return {"full_us": np.median(full) / 1e3, "compiled_us": np.median(compiled) / 1e3,
+            "calls": np.mean(calls), "support_us": np.mean(calls) * np.median(per_call) / 1e3,
+            "per_call_ns": np.median(per_call)}
 
 
 def tolerance_sweep(pairs, methods, tolerances):
@@ -244,16 +291,18 @@ def run(n_pairs=3000, n_shapes=100, eps=1e-9, seed=0, methods=METHODS, plots=Fal
     prot = protocol_rows(pairs, eps, methods, log)
     rand, n_random = random_rows(random_shapes(n_shapes, seed + 1), eps, methods, log)
     warm = warm_start_rows(eps)
+    split = time_split(pairs, eps)
     with open(PAPER_TABLES) as f:
         paper = json.load(f)
     p1, p2 = paper["table1_growth_abs_error"], paper["table2_growth_time_ms_and_iterations"]
     index = {m: i for i, m in enumerate(paper["methods"])}
-    lines = [f"## Growth distance: ellipsoid vs truncated cone ({n_pairs} pairs per case, "
-             f"eps = {eps:g} relative, seed {seed})\n",
-             "Every query timed alone from Python on a GrowthDistance built for the pair "
-             "(warm start off). Paper: eps = 1e-5 absolute, MATLAB, Intel i7 2.67 GHz, means.\n",
-             "| case | method | median us | mean us | mean iters | mean abs error | max abs error "
-             "| paper mean abs error | paper ms | paper iters |",
+    lines = [(f"## Growth distance: ellipsoid vs truncated cone ({n_pairs} pairs per case, "
+              f"eps = {eps:g} relative, seed {seed})\n"),
+             ("Every query timed alone from Python on a GrowthDistance built for the pair "
+              "(warm start off); sigma is the midpoint of the certified bracket. Paper: eps = "
+              "1e-5 absolute, MATLAB, Intel i7 2.67 GHz, means.\n"),
+             ("| case | method | median us | mean us | mean iters | mean abs error | max abs error "
+              "| paper mean abs error | paper ms | paper iters |"),
              "|---|---|---|---|---|---|---|---|---|---|"]
     for case in SCALES:
         for method in list(methods) + ["clarabel"]:
@@ -264,10 +313,10 @@ def run(n_pairs=3000, n_shapes=100, eps=1e-9, seed=0, methods=METHODS, plots=Fal
             lines.append(f"| {case} | {method} | {r['median_us']:.1f} | {r['mean_us']:.1f} | "
                          f"{r['mean_iters']:.1f} | {r['mean_err']:.1e} | {r['max_err']:.1e} | "
                          f"{p1[case][i]:.1e} | {ms} | {it} |")
-    lines += ["", f"### All pairs among {n_shapes} random ellipsoids and truncated cones "
-              f"({n_random} pairs)\n",
-              "| method | median us | mean us | mean iters | max rel vs clarabel | paper ms "
-              "| paper iters |", "|---|---|---|---|---|---|---|"]
+    lines += ["", (f"### All pairs among {n_shapes} random ellipsoids and truncated cones "
+               f"({n_random} pairs)\n"),
+              ("| method | median us | mean us | mean iters | max rel vs clarabel | paper ms "
+               "| paper iters |"), "|---|---|---|---|---|---|---|"]
     for method in list(methods) + ["clarabel"]:
         r = rand[method]
         key = method if method != "clarabel" else "active-set"
@@ -275,10 +324,16 @@ def run(n_pairs=3000, n_shapes=100, eps=1e-9, seed=0, methods=METHODS, plots=Fal
         rel = f"{r['max_rel_vs_clarabel']:.1e}" if "max_rel_vs_clarabel" in r else ""
         lines.append(f"| {method} | {r['median_us']:.1f} | {r['mean_us']:.1f} | "
                      f"{r['mean_iters']:.1f} | {rel} | {ms} | {it} |")
-    lines += ["", "### Warm start on a moving pair (zc-ie, 400 poses of a tumbling cone "
-              "circling an ellipsoid)\n", "| start | median us | mean iters |", "|---|---|---|"]
-    for k, r in warm.items():
-        lines.append(f"| {k} | {r['median_us']:.1f} | {r['mean_iters']:.1f} |")
+    lines += ["", ("### Warm start on a moving pair (zc-ie, a tumbling cone circling an "
+               "ellipsoid once in N poses)\n"), "| N poses | start | median us | mean iters |",
+              "|---|---|---|---|"]
+    for (n, k), r in warm.items():
+        lines.append(f"| {n} | {k} | {r['median_us']:.1f} | {r['mean_iters']:.1f} |")
+    lines += ["", "### Where a zc-ie query's time goes (contact case, 500 pairs, medians)\n",
+              ("| whole Python call us | compiled query us | support calls per query "
+               "| one support call ns | support calls alone us |"), "|---|---|---|---|---|",
+              (f"| {split['full_us']:.1f} | {split['compiled_us']:.1f} | {split['calls']:.1f} | "
+               f"{split['per_call_ns']:.0f} | {split['support_us']:.1f} |")]
     if plots:
         tolerances = [1e-3, 1e-5, 1e-7, 1e-9, 1e-11]
         sweep = tolerance_sweep(pairs[:300], methods, tolerances)
@@ -290,8 +345,8 @@ def run(n_pairs=3000, n_shapes=100, eps=1e-9, seed=0, methods=METHODS, plots=Fal
         for e in tolerances:
             lines.append(f"| {e:g} | " + " | ".join(
                 f"{sweep[(e, m)][0]:.1e} / {sweep[(e, m)][1]:.1f}" for m in methods) + " |")
-    lines += ["", f"Environment: numpy {np.__version__}, numba {numba.__version__}, clarabel "
-              f"{clarabel.__version__}, {_cpu_name()}."]
+    lines += ["", (f"Environment: numpy {np.__version__}, numba {numba.__version__}, clarabel "
+               f"{clarabel.__version__}, {_cpu_name()}.")]
     text = "\n".join(lines) + "\n"
     if out_path:
         os.makedirs(os.path.dirname(out_path), exist_ok=True)

@@ -55,8 +55,8 @@ def touching_pair(rng, case):
     S = R_e @ np.diag(axes)
     y = S.T @ (-n)
     p_e = q - S @ y / np.linalg.norm(y)
-    return dict(axes=axes, R_e=R_e, p_e=p_e, rb=rb, rt=rt, h=h, R_c=R_c, p_c=p_c, point=q,
-                normal=n, case=case)
+    return {"axes": axes, "R_e": R_e, "p_e": p_e, "rb": rb, "rt": rt, "h": h, "R_c": R_c,
+            "p_c": p_c, "point": q, "normal": n, "case": case}
 
 
 def protocol_pairs(n, seed=0, cases=CASES):

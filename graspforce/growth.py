@@ -5,51 +5,59 @@ A = p_A + R_A(A_0) (eq. 7), where the local origin p_A must be an interior point
 model is A(sigma) = p_A + sigma R_A(A_0) (eq. 8) and the growth distance
     g(A, B) = min {sigma >= 0 : A(sigma) and B(sigma) intersect}              (eq. 9)
 is the ray-shooting problem of eq. (10): with Delta = R_A(A_0) - R_B(B_0) and r = p_B - p_A,
-g = 1/t for the farthest point z = t r of Delta on R(r). g > 1: separated, g = 1: touching,
-g < 1: penetrating.
+g = 1/t* for the farthest point z_Delta(r) = t* r of Delta on R(r). g > 1: separated, g = 1:
+touching, g < 1: penetrating. The shooter brackets t* between t (t r is a convex combination of
+support points of Delta) and t_upper (where a supporting hyperplane crosses the ray), with
+t_upper / t - 1 <= eps, so g lies in [1/t_upper, 1/t] = [sigma_lower, sigma_upper]; sigma is
+their midpoint (error at most half the bracket, eps/2 relative).
 
 The contact (the derivation the paper omits). Every support point of the Minkowski sum Delta is
 a pair: v = a - b with a a support point of R_A(A_0) and b one of R_B(B_0) in opposite
 directions, and the witnesses of each vertex v_k of Z_Delta(r) name both. With the weights
-lambda_k of z = sum_k lambda_k v_k, put a = sum_k lambda_k a_k (in R_A(A_0), convex) and
-b = sum_k lambda_k b_k (in R_B(B_0)). Then z = a - b = t (p_B - p_A), i.e. with sigma = 1/t
-    p_A + sigma a = p_B + sigma b,
-a point of A(sigma) and of B(sigma): the contact point (point_a, point_b; equal up to rounding).
-The normal n of the hyperplane supporting Delta at z (n^T r > 0) satisfies n^T z = h_Delta(n) =
-h_{R_A A_0}(n) + h_{R_B B_0}(-n), and since n^T a <= h_{R_A A_0}(n) and -n^T b <= h_{R_B B_0}(-n)
-both must be equalities: A(sigma) lies in {x : n^T x <= n^T point_a} and B(sigma) in
-{x : n^T x >= n^T point_b}. So n, normalized, is the contact normal from A to B.
+lambda_k of t r = sum_k lambda_k v_k, put a = sum_k lambda_k a_k (in R_A(A_0), convex) and
+b = sum_k lambda_k b_k (in R_B(B_0)). Then a - b = t (p_B - p_A), i.e. with sigma_upper = 1/t
+    p_A + sigma_upper a = p_B + sigma_upper b,
+a point of A(sigma_upper) and of B(sigma_upper). point_a = p_A + sigma a and
+point_b = p_B + sigma b, at the reported sigma, differ by (sigma/sigma_upper - 1) r, at most
+eps/2 |r|. The normal n of the hyperplane supporting Delta at z (n^T r > 0) satisfies
+n^T z = h_Delta(n) = h_{R_A A_0}(n) + h_{R_B B_0}(-n), and since n^T a <= h_{R_A A_0}(n) and
+-n^T b <= h_{R_B B_0}(-n), both are equalities: A(sigma) lies in {x : n^T x <= n^T point_a} and
+B(sigma) in {x : n^T x >= n^T point_b}. So n, normalized, is the contact normal from A to B
+(exact for the returned hyperplane; z is within eps of the plane, so these hold to eps).
 """
-import numpy as np
-from numba import njit
+import math
 
-from . import _shooters as S
-from ._dispatch import shoot
-from ._warm import shoot_warm
+import numpy as np
+
+from ._growth import BAD_POSE_A, COINCIDENT, query, unpack
+from ._shooters import HIT
 from ._validate import finite_array
 from .quality import facet_expansion
-from .ray_shoot import METHODS, check_tolerances
+from .ray_shoot import METHODS, check_tolerances, make_ray_shot
 from .results import GrowthDistanceResult
 from .sets import Affine, ConvexSet, MinkowskiSum
 
-WARM_SPREAD = 0.05     # warm-start directions: the last normal +- this (a unit vector's tilt)
+WARM_SPREAD = 0.05     # first warm start: probes at the last normal +- this (a unit vector's tilt)
 ORIGIN_TOL = 1e-9      # an origin closer than this fraction of the set's width to its boundary
-                        # is not accepted as the interior point p_A of eq. (7)
+                       # is not accepted as the interior point p_A of eq. (7)
+_NO_NORMAL = np.zeros(3)
 
 
 def growth_distance(A, pose_a, B, pose_b, method="zc-ie", eps=1e-9, max_iter=1000,
                     touching_tol=1e-9):
     """g(A, B) of eq. (9)-(10) for 3-D convex sets A, B given in their local frames (whose
     origins are interior points) and poses as (R, p), 4x4 homogeneous matrices or
-    pinocchio.SE3. Returns a GrowthDistanceResult: sigma, status, point_a, point_b, normal.
+    pinocchio.SE3. Returns a GrowthDistanceResult: sigma with its bracket, status, point_a,
+    point_b, normal. eps: relative bracket width (sigma_upper / sigma_lower - 1 <= eps).
 
-    For many queries on the same pair, `GrowthDistance(A, B)` compiles Delta once; this
-    function keeps the last few pairs compiled.
+    The last 64 pairs (A, B) stay compiled, so repeated calls on the same set objects cost what
+    `GrowthDistance(A, B)(pose_a, pose_b)` costs; no warm start (the answer depends only on the
+    arguments).
     """
     key = (id(A), id(B), method, eps, max_iter, touching_tol)
     solver = _RECENT.get(key)
     if solver is None or solver.A is not A or solver.B is not B:
-        solver = GrowthDistance(A, B, method, eps, max_iter, touching_tol)
+        solver = GrowthDistance(A, B, method, eps, max_iter, touching_tol, warm_start=False)
         if len(_RECENT) >= 64:
             _RECENT.pop(next(iter(_RECENT)))
         _RECENT[key] = solver
@@ -61,7 +69,12 @@ _RECENT = {}
 
 class GrowthDistance:
     """g(A, B) for one pair of shapes at many poses: Delta = R_A(A_0) - R_B(B_0) is compiled
-    once, and each call writes the two rotations into its support program in place."""
+    once, and each call writes the two rotations into its support program in place.
+
+    warm_start (method "zc-ie" only): each call after a certified one starts IE from support
+    points in directions spread around the previous normal (graspforce._warm) instead of ZC from
+    the origin; for a pair that moves little between calls (time coherence).
+    """
 
     def __init__(self, A, B, method="zc-ie", eps=1e-9, max_iter=1000, touching_tol=1e-9,
                  warm_start=True):
@@ -76,62 +89,93 @@ class GrowthDistance:
             raise ValueError(f"method: must be one of {sorted(METHODS)}, got {method!r}")
         self.A, self.B, self.method = A, B, method
         self.eps, self.max_iter = check_tolerances(eps, max_iter)
-        if not (isinstance(touching_tol, float) and 0.0 <= touching_tol < 1.0):
+        if not (type(touching_tol) is float and 0.0 <= touching_tol < 1.0):
             raise ValueError(f"touching_tol: must be a float in [0, 1), got {touching_tol!r}")
         self.touching_tol = touching_tol
         self.delta = MinkowskiSum([Affine(np.eye(3), A), Affine(-np.eye(3), B)])
         ints, floats = self.delta.program
         nn = ints[0]
-        pstart, cstart = 1 + 2 * nn, 1 + 3 * nn
-        first = ints[1 + 9 * nn + ints[cstart]]            # the root's two children
-        second = ints[1 + 9 * nn + ints[cstart] + 1]
+        children = 1 + 9 * nn + ints[1 + 3 * nn]          # the root's children in `ints`
+        pstart = 1 + 2 * nn
         # an Affine node's parameters are [m, n, M (row-major), t]: M starts 2 further
-        self._m_a = slice(ints[pstart + first] + 2, ints[pstart + first] + 11)
-        self._m_b = slice(ints[pstart + second] + 2, ints[pstart + second] + 11)
+        self._ma = int(ints[pstart + ints[children]] + 2)
+        self._mb = int(ints[pstart + ints[children + 1]] + 2)
+        self._ints, self._floats = ints, floats
+        self._ws = self.delta.witness_size
         self._code = METHODS[method]
         self._leaves_a = len(A.leaves())
-        # time coherence: ZC-IE restarts near the last answer's normal (graspforce._warm)
         self.warm_start = bool(warm_start) and method == "zc-ie"
-        self._normal = None
+        self._normal = _NO_NORMAL
+        self._warm = False
+        self._spread = WARM_SPREAD
 
     def __call__(self, pose_a, pose_b):
         """The GrowthDistanceResult at these poses."""
         R_a, p_a = parse_pose(pose_a, "pose_a")
         R_b, p_b = parse_pose(pose_b, "pose_b")
-        ints, floats = self.delta.program
-        floats[self._m_a] = R_a.ravel()
-        floats[self._m_b] = -R_b.ravel()
-        r = p_b - p_a
-        frame = (R_a, p_a, R_b, p_b, self)
-        if not r.any():
-            # coincident reference points: A(0) and B(0) are the same point
-            return GrowthDistanceResult(0.0, 0.0, "penetrating", self.method, 0, 0, None, frame)
-        if self.warm_start and self._normal is not None:
-            out = shoot_warm(ints, floats, r, self.delta.witness_size, self.eps, self.max_iter,
-                             self._normal, WARM_SPREAD)
-        else:
-            out = shoot(ints, floats, r, self.delta.witness_size, self._code, self.eps,
-                        self.max_iter)
-        status, t, t_up = out[0], out[1], out[2]
-        self._normal = out[6] if status == S.HIT else None
-        # 0 is interior to Delta (both origins are interior points), so the ray always hits
-        sigma, lower = 1.0 / t, 1.0 / t_up
-        if status != S.HIT:
-            verdict = "max_iter"
-        elif abs(sigma - 1.0) <= self.touching_tol:
+        res = query(self._ints, self._floats, self._ma, self._mb, self._ws, R_a, p_a, R_b, p_b,
+                    self._code, self.eps, self.max_iter, self._warm, self._normal,
+                    self._spread)
+        code, status, t, t_up = res[0], res[1], res[2], res[3]
+        if code:
+            if code == COINCIDENT:
+                # A(0) and B(0) are the same point: no direction is preferred
+                return GrowthDistanceResult(0.0, 0.0, 0.0, "penetrating", self.method, 0, 0,
+                                            (self, res))
+            name = "pose_a" if code == BAD_POSE_A else "pose_b"
+            R, p = (R_a, p_a) if code == BAD_POSE_A else (R_b, p_b)
+            finite_array(R, f"{name} rotation")
+            finite_array(p, f"{name} translation")
+            raise ValueError(f"{name}: the rotation must be proper (R^T R = I to 1e-9, "
+                             "det R = 1)")
+        hit = status == HIT
+        if self.warm_start:
+            # the first warm call probes at WARM_SPREAD, the next ones at the spread the last
+            # change of the normal suggests (graspforce._growth)
+            self._spread = res[9] if self._warm and hit else WARM_SPREAD
+            self._warm = hit
+            if hit:
+                self._normal = res[8][24:27]
+        # 0 is interior to Delta (both origins are interior points), so the ray always hits;
+        # only max_iter stops it short, and then t is the method's last estimate (GJK's from
+        # outside A, the others' from inside): no bracket
+        if not hit:
+            sigma = 1.0 / t if t > 0.0 else math.inf
+            return GrowthDistanceResult(sigma, 0.0, math.inf, "max_iter", self.method, res[5],
+                                        res[6], (self, res))
+        # an exact face of Delta can put h_Delta(n) / n^T r an ulp below t: clamp
+        upper = 1.0 / t
+        lower = min(1.0 / t_up, upper)
+        tol = self.touching_tol
+        if lower - tol <= 1.0 <= upper + tol:
             verdict = "touching"
         else:
-            verdict = "separated" if sigma > 1.0 else "penetrating"
-        return GrowthDistanceResult(sigma, lower, verdict, self.method, int(out[4]),
-                                    int(out[5]), (self.delta, r, out), frame)
+            verdict = "separated" if lower > 1.0 else "penetrating"
+        return GrowthDistanceResult(0.5 * (lower + upper), lower, upper, verdict, self.method,
+                                    res[5], res[6], (self, res))
+
+
+def shot_of(result):
+    """The RayShot on Delta and R(p_B - p_A) behind a GrowthDistanceResult (None if the
+    reference points coincide)."""
+    solver, res = result._raw
+    if res[0] == COINCIDENT:
+        return None
+    out, frame = unpack(res[1:8], res[8], solver._ws)
+    return make_ray_shot(solver.delta, frame[21:] - frame[9:12], solver.method, out)
 
 
 def contact_from_shot(result):
     """(point_a, point_b, normal) of a GrowthDistanceResult, by the derivation above."""
-    R_a, p_a, R_b, p_b, solver = result.frame
-    if result.shot is None:
+    solver, res = result._raw
+    frame = res[8]
+    R_a, p_a = frame[:9].reshape(3, 3), frame[9:12]
+    R_b, p_b = frame[12:21].reshape(3, 3), frame[21:24]
+    shot = result.shot
+    if shot is None or not shot.hit:
+        # coincident reference points: sigma = 0 and A(0) = B(0) = {p_A}; or no certified
+        # simplex (max_iter): no contact to report
         return p_a.copy(), p_b.copy(), np.zeros(3)
-    shot, sigma = result.shot, result.sigma
     split = solver._leaves_a
     a = np.zeros(3)
     b = np.zeros(3)
@@ -140,15 +184,25 @@ def contact_from_shot(result):
         b += weight * solver.B.witness_point(tuple((j - split, x) for j, x in witness
                                                    if j >= split))
     normal = shot.normal / np.linalg.norm(shot.normal)
+    sigma = result.sigma
     return p_a + sigma * (R_a @ a), p_b + sigma * (R_b @ b), normal
 
 
 def parse_pose(pose, name):
-    """(R (3, 3), p (3,)) from (R, p), a 4x4 homogeneous matrix or a pinocchio.SE3."""
-    if hasattr(pose, "rotation") and hasattr(pose, "translation"):      # pinocchio.SE3
-        R, p = pose.rotation, pose.translation
+    """(R (3, 3), p (3,)) C-contiguous float64 arrays from (R, p), a 4x4 homogeneous matrix or a
+    pinocchio.SE3 (anything with .rotation and .translation). The rotation is checked in the
+    compiled query."""
+    if type(pose) is tuple and len(pose) == 2:
+        R, p = pose
+        # the common call: float64 arrays of the right shapes pass on two type checks
+        if (type(R) is np.ndarray and type(p) is np.ndarray and R.dtype == np.float64
+                and p.dtype == np.float64 and R.shape == (3, 3) and p.shape == (3,)
+                and R.flags.c_contiguous and p.flags.c_contiguous):
+            return R, p
     elif isinstance(pose, (tuple, list)) and len(pose) == 2:
         R, p = pose
+    elif hasattr(pose, "rotation") and hasattr(pose, "translation"):      # pinocchio.SE3
+        R, p = pose.rotation, pose.translation
     else:
         M = finite_array(pose, name)
         if M.shape != (4, 4):
@@ -157,33 +211,9 @@ def parse_pose(pose, name):
         if not np.array_equal(M[3], [0.0, 0.0, 0.0, 1.0]):
             raise ValueError(f"{name}: the last row of a homogeneous matrix must be [0, 0, 0, 1]")
         R, p = M[:3, :3], M[:3, 3]
-    if not (type(R) is np.ndarray and R.dtype == np.float64 and R.shape == (3, 3)):
-        R = finite_array(R, f"{name} rotation", shape=(3, 3))
-    if not (type(p) is np.ndarray and p.dtype == np.float64 and p.shape == (3,)):
-        p = finite_array(p, f"{name} translation", shape=(3,))
-    # one compiled check (~0.3 us) instead of numpy's R^T R and det (~6 us): NaN fails it too
-    if not _proper_rotation(R, p):
-        finite_array(R, f"{name} rotation")
-        finite_array(p, f"{name} translation")
-        raise ValueError(f"{name}: the rotation must be proper (R^T R = I to 1e-9, det R = 1)")
+    R = np.ascontiguousarray(finite_array(R, f"{name} rotation", shape=(3, 3)))
+    p = np.ascontiguousarray(finite_array(p, f"{name} translation", shape=(3,)))
     return R, p
-
-
-@njit(cache=True)
-def _proper_rotation(R, p):
-    for a in range(3):
-        if not np.isfinite(p[a]):
-            return False
-        for b in range(3):
-            s = 0.0
-            for c in range(3):
-                s += R[c, a] * R[c, b]
-            if not abs(s - (1.0 if a == b else 0.0)) <= 1e-9:
-                return False
-    det = (R[0, 0] * (R[1, 1] * R[2, 2] - R[1, 2] * R[2, 1])
-           - R[0, 1] * (R[1, 0] * R[2, 2] - R[1, 2] * R[2, 0])
-           + R[0, 2] * (R[1, 0] * R[2, 1] - R[1, 1] * R[2, 0]))
-    return det > 0.0
 
 
 def _check_origin_interior(X, name):
@@ -196,4 +226,3 @@ def _check_origin_interior(X, name):
     if not verdict:
         raise ValueError(f"{name}: the origin of its local frame must be an interior point "
                          "(eq. 7); this set is flat, or its origin is outside or on its boundary")
-

@@ -148,32 +148,33 @@ class GraspQuality:
 class GrowthDistanceResult:
     """The growth distance g(A, B) of eq. (9)-(10) and the contact of A(sigma) and B(sigma).
 
-    sigma = 1/t for z = t r the farthest point of Delta = R_A(A_0) - R_B(B_0) on the ray
-    R(r), r = p_B - p_A (eq. 10); the true g lies in [sigma_lower, sigma] (sigma_lower =
-    1/t_upper from the supporting hyperplane). status: "separated" (sigma > 1 + tol),
-    "touching" (|sigma - 1| <= tol), "penetrating" (sigma < 1 - tol), with tol = max(eps, 1e-12)
-    (graspforce.growth.TOUCHING); "max_iter" when the bracket did not close (sigma is then an
-    upper bound). point_a, point_b and normal are derived from Z_Delta(r) on first use
-    (graspforce.growth docstring); coincident reference points give sigma = 0, the shared
-    point, and a zero normal.
+    With Delta = R_A(A_0) - R_B(B_0), r = p_B - p_A and t r <= z_Delta(r) <= t_upper r the
+    shooter's bracket: g lies in [sigma_lower, sigma_upper] = [1/t_upper, 1/t], whose relative
+    width is at most eps, and sigma is its midpoint. status, with tol = touching_tol:
+    "touching" when the bracket widened by tol contains 1 (sigma_lower - tol <= 1 <=
+    sigma_upper + tol), else "separated" (g > 1) or "penetrating" (g < 1), each certified by the
+    bracket; "max_iter" when the bracket did not close (sigma = the method's last estimate,
+    uncertified, possibly inf; sigma_lower = 0, sigma_upper = inf). Coincident reference points:
+    sigma = 0, "penetrating".
+    point_a, point_b and normal are derived from Z_Delta(r) on first access (the derivation is
+    in the graspforce.growth docstring); coincident points or max_iter give point_a = p_A,
+    point_b = p_B and a zero normal. Never NaN.
     """
     sigma: float
     sigma_lower: float
+    sigma_upper: float
     status: str
     method: str
     iterations: int
     support_calls: int
-    ray: tuple = field(repr=False)              # (Delta, r, raw result); None if coincident
-    frame: tuple = field(repr=False)            # (R_A, p_A, R_B, p_B, the GrowthDistance)
+    _raw: tuple = field(repr=False)     # (the GrowthDistance, the compiled query's answer)
 
     @cached_property
     def shot(self):
-        """The RayShot on Delta and R(p_B - p_A) that certifies sigma (None if coincident)."""
-        if self.ray is None:
-            return None
-        from .ray_shoot import make_ray_shot
-        delta, r, out = self.ray
-        return make_ray_shot(delta, r, self.method, out)
+        """The RayShot on Delta and R(p_B - p_A) that certifies the bracket (None if the
+        reference points coincide)."""
+        from .growth import shot_of
+        return shot_of(self)
 
     @cached_property
     def _contact(self):
@@ -187,7 +188,8 @@ class GrowthDistanceResult:
 
     @property
     def point_b(self):
-        """The point of B(sigma) where it touches A(sigma); equals point_a up to rounding."""
+        """The point of B(sigma) where it touches A(sigma); within eps/2 |p_B - p_A| of
+        point_a."""
         return self._contact[1]
 
     @property

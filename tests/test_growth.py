@@ -4,7 +4,13 @@ import pytest
 import scipy.sparse as sp
 
 import graspforce as gf
-from benchmarks.growth_sets import CASES, SCALES, protocol_pairs, random_rotation, scaled_shapes
+from benchmarks.growth_sets import (
+    CASES,
+    SCALES,
+    protocol_pairs,
+    random_rotation,
+    scaled_shapes,
+)
 
 METHODS = list(gf.METHODS)
 PAIRS = protocol_pairs(12, seed=7)           # 4 per case
@@ -25,7 +31,10 @@ def test_paper_protocol(method, case):
                                  method=method, eps=1e-10)
         # the issue's bound at eps = 1e-10; the pair's own construction is exact to ~1e-15
         assert abs(res.sigma - truth) <= 1e-8, (pair["case"], res.sigma)
-        assert res.sigma_lower <= truth * (1 + 1e-12) and res.sigma >= truth * (1 - 1e-12)
+        # the certified bracket holds the truth; sigma is its midpoint
+        assert res.sigma_lower <= truth * (1 + 1e-12) and res.sigma_upper >= truth * (1 - 1e-12)
+        assert res.sigma_upper / res.sigma_lower - 1 <= 1e-10 * (1 + 1e-6)
+        assert res.sigma_lower <= res.sigma <= res.sigma_upper
         assert res.status == {1.0: "touching", 2.0: "separated", 0.5: "penetrating"}[truth]
         # the contact: the grown shapes touch where the pair was built to touch (the ellipsoid
         # is strictly convex, so the point and its normal are unique), scaled about p_e and p_c
@@ -37,6 +46,81 @@ def test_paper_protocol(method, case):
         assert np.linalg.norm(res.point_a - q) <= 1e-4 * size
         # from the ellipsoid (A) to the cone (B): the pair's normal points from cone to ellipsoid
         assert res.normal @ -pair["normal"] >= 1 - 1e-8
+
+
+def _support_ellipsoid(axes, R, p, sigma, n):
+    # closed form: h(n) = n^T p + sigma ||diag(axes) R^T n||
+    return n @ p + sigma * np.linalg.norm(axes * (R.T @ n))
+
+
+def _support_cone(rb, rt, h, R, p, sigma, n):
+    # the hull of two disks: the better of the two rims, h_disk(m) = c^T m + radius ||m_xy||
+    m = R.T @ n
+    rad = np.hypot(m[0], m[1])
+    return n @ p + sigma * max(-0.5 * h * m[2] + rb * rad, 0.5 * h * m[2] + rt * rad)
+
+
+@pytest.mark.parametrize("case", list(SCALES))
+def test_contact_lies_on_both_boundaries(case):
+    # independent of the kernel: closed-form supports of the grown shapes. point_a is on the
+    # boundary of A(sigma) where the normal supports it, point_b on B(sigma)'s where -normal does
+    scale, _truth = SCALES[case]
+    for pair in PAIRS:
+        axes, (rb, rt, h) = scaled_shapes(pair, scale)
+        E, C = shapes(pair, scale)
+        res = gf.growth_distance(E, (pair["R_e"], pair["p_e"]), C, (pair["R_c"], pair["p_c"]))
+        n, s = res.normal, res.sigma
+        size = s * max(axes.max(), rb, rt, h)
+        assert abs(np.linalg.norm(n) - 1) <= 1e-12
+        assert abs(_support_ellipsoid(axes, pair["R_e"], pair["p_e"], s, n) - n @ res.point_a) \
+            <= 1e-8 * size
+        assert abs(_support_cone(rb, rt, h, pair["R_c"], pair["p_c"], s, -n) + n @ res.point_b) \
+            <= 1e-8 * size
+        assert np.linalg.norm(res.point_a - res.point_b) <= 1e-9 * size
+
+
+def test_touching_status_follows_the_bracket():
+    # at a coarse eps the bracket around a touching pair is wide: it contains 1, so "touching";
+    # a pair grown by 1e-3 is outside the bracket either way
+    pair = PAIRS[0]
+    for scale, want in ((1.0, "touching"), (1.001, "penetrating"), (0.999, "separated")):
+        E, C = shapes(pair, scale)
+        res = gf.growth_distance(E, (pair["R_e"], pair["p_e"]), C, (pair["R_c"], pair["p_c"]),
+                                 eps=1e-5, touching_tol=0.0)
+        assert res.status == want, (scale, res)
+        assert res.sigma_lower <= 1 / scale <= res.sigma_upper * (1 + 1e-12)
+
+
+def test_iteration_limit_is_a_status_not_nan():
+    pair = PAIRS[1]
+    E, C = shapes(pair, 1.0)
+    for method in METHODS:
+        res = gf.growth_distance(E, (pair["R_e"], pair["p_e"]), C, (pair["R_c"], pair["p_c"]),
+                                 method=method, eps=1e-12, max_iter=1)
+        assert res.status == "max_iter"
+        values = [res.sigma, res.sigma_lower, res.sigma_upper, *res.point_a, *res.normal]
+        assert not np.isnan(values).any()
+        assert res.sigma_lower == 0.0 and res.sigma_upper == np.inf      # nothing certified
+
+
+def test_result_keeps_its_poses():
+    # a caller that reuses its pose arrays must not move an earlier result's contact
+    A, B = gf.Ball(np.zeros(3), 1.0), gf.Ball(np.zeros(3), 1.0)
+    R, p = np.eye(3), np.array([4.0, 0.0, 0.0])
+    res = gf.growth_distance(A, (R, np.zeros(3)), B, (R, p))
+    p[:] = [0.0, 8.0, 0.0]
+    assert res.sigma == pytest.approx(2.0, rel=1e-9)
+    assert np.allclose(res.point_a, [2.0, 0.0, 0.0], atol=1e-6)
+    assert np.allclose(res.normal, [1.0, 0.0, 0.0], atol=1e-6)
+
+
+def test_one_shot_calls_do_not_depend_on_history():
+    A, B = gf.Capsule(0.2, 0.5), gf.Box([0.3, 0.1, 0.2])
+    rng = np.random.default_rng(9)
+    pa, pb = (random_rotation(rng), np.zeros(3)), (random_rotation(rng), np.ones(3))
+    first = gf.growth_distance(A, pa, B, pb)
+    gf.growth_distance(A, pa, B, (pb[0], np.array([1.0, 1.1, 0.9])))
+    assert gf.growth_distance(A, pa, B, pb).sigma == first.sigma
 
 
 def test_protocol_covers_every_contact_type():
@@ -120,27 +204,67 @@ def test_random_pairs_against_socp(kinds):
             assert res.sigma == pytest.approx(truth, rel=1e-7)
 
 
+def _coal_distance(coal, axes, radius, height, pose_a, pose_b, scale):
+    """coal's signed distance between the ellipsoid and the cylinder grown by `scale`."""
+    e = coal.Ellipsoid(*(axes * scale))
+    c = coal.Cylinder(radius * scale, height * scale)
+    return coal.distance(e, coal.Transform3s(*pose_a), c, coal.Transform3s(*pose_b),
+                         coal.DistanceRequest(), coal.DistanceResult())
+
+
+def lp_growth(VA, RA, pA, VB, RB, pB):
+    """min sigma s.t. p_A + R_A V_A^T alpha = p_B + R_B V_B^T beta, sum alpha = sum beta = sigma,
+    alpha, beta >= 0: a point of both grown polytopes (HiGHS)."""
+    from scipy.optimize import linprog
+    ma, mb = len(VA), len(VB)
+    c = np.zeros(1 + ma + mb)
+    c[0] = 1.0
+    A_eq = np.zeros((5, 1 + ma + mb))
+    A_eq[:3, 1:1 + ma] = RA @ VA.T
+    A_eq[:3, 1 + ma:] = -RB @ VB.T
+    A_eq[3, 0], A_eq[3, 1:1 + ma] = -1.0, 1.0
+    A_eq[4, 0], A_eq[4, 1 + ma:] = -1.0, 1.0
+    b_eq = np.concatenate([pB - pA, [0.0, 0.0]])
+    sol = linprog(c, A_eq=A_eq, b_eq=b_eq, bounds=(0, None), method="highs",
+                  options={"primal_feasibility_tolerance": 1e-10,
+                           "dual_feasibility_tolerance": 1e-10})
+    return sol.x[0]
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_random_polytopes_against_lp(method):
+    # meshes' vertices: the hull of random points around the origin (the origin stays interior)
+    rng = np.random.default_rng(10)
+    for _ in range(8):
+        VA = rng.normal(size=(12, 3)) * rng.uniform(0.2, 1.0, 3)
+        VB = rng.normal(size=(20, 3)) * rng.uniform(0.2, 1.0, 3)
+        VA -= VA.mean(axis=0)
+        VB -= VB.mean(axis=0)
+        RA, RB = random_rotation(rng), random_rotation(rng)
+        pA, pB = rng.normal(0, 2, 3), rng.normal(0, 2, 3)
+        res = gf.growth_distance(gf.Polytope(VA), (RA, pA), gf.Polytope(VB), (RB, pB),
+                                 method=method)
+        assert res.sigma == pytest.approx(lp_growth(VA, RA, pA, VB, RB, pB), rel=1e-8)
+        assert np.linalg.norm(res.point_a - res.point_b) <= 1e-8 * (1 + np.linalg.norm(pB - pA))
+
+
 def test_coal_agrees_at_the_growth_distance():
     coal = pytest.importorskip("coal")
     rng = np.random.default_rng(4)
     for _ in range(10):
         axes = rng.uniform(0.2, 1.0, 3)
         radius, height = rng.uniform(0.2, 1.0), rng.uniform(0.5, 2.0)
-        RA, RB = random_rotation(rng), random_rotation(rng)
-        pA, pB = rng.normal(0, 2, 3), rng.normal(0, 2, 3)
-        res = gf.growth_distance(gf.Ellipsoid(np.zeros(3), np.diag(axes)), (RA, pA),
-                                 gf.TruncatedCone(radius, radius, height), (RB, pB))
+        pose_a = (random_rotation(rng), rng.normal(0, 2, 3))
+        pose_b = (random_rotation(rng), rng.normal(0, 2, 3))
+        res = gf.growth_distance(gf.Ellipsoid(np.zeros(3), np.diag(axes)), pose_a,
+                                 gf.TruncatedCone(radius, radius, height), pose_b)
         s = res.sigma
-
-        def coal_distance(scale):
-            e = coal.Ellipsoid(*(axes * scale))
-            c = coal.Cylinder(radius * scale, height * scale)
-            return coal.distance(e, coal.Transform3s(RA, pA), c, coal.Transform3s(RB, pB),
-                                 coal.DistanceRequest(), coal.DistanceResult())
         size = s * max(axes.max(), radius, height)
-        assert abs(coal_distance(s)) <= 1e-6 * size              # touching at sigma
-        assert coal_distance(s * (1 - 1e-4)) > 0                  # slightly smaller: separated
-        assert coal_distance(s * (1 + 1e-4)) < 0                  # slightly larger: penetrating
+        dist = _coal_distance(coal, axes, radius, height, pose_a, pose_b, s)
+        assert abs(dist) <= 1e-6 * size                                      # touching at sigma
+        # slightly smaller: separated; slightly larger: penetrating
+        assert _coal_distance(coal, axes, radius, height, pose_a, pose_b, s * (1 - 1e-4)) > 0
+        assert _coal_distance(coal, axes, radius, height, pose_a, pose_b, s * (1 + 1e-4)) < 0
 
 
 def test_pose_formats_agree():
@@ -178,7 +302,9 @@ def test_warm_start_on_a_moving_pair():
         pose_b = (random_rotation(np.random.default_rng(k)) if k % 50 == 0 else
                   _rot_z(th), np.array([0.8 * np.cos(th), 0.6 * np.sin(th), 0.1]))
         w, c = warm((np.eye(3), np.zeros(3)), pose_b), cold((np.eye(3), np.zeros(3)), pose_b)
-        assert w.sigma_lower <= c.sigma * (1 + 1e-12) and c.sigma_lower <= w.sigma * (1 + 1e-12)
+        # both certified: their brackets overlap
+        assert w.sigma_lower <= c.sigma_upper * (1 + 1e-12)
+        assert c.sigma_lower <= w.sigma_upper * (1 + 1e-12)
         saved += c.iterations - w.iterations
     assert saved > 0
 
