@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 import truth as T
 from grasp_cases import plain, random_grasp, random_wrench
+from grasps import G_WEIGHT, MU, sphere_grasp
 
 import graspforce as gf
 
@@ -74,18 +75,8 @@ def certified_gap(grasp, w, res):
 
 
 # --- the paper's sphere (section 5.2, tables 3 and 4) --------------------------------------------
-G_WEIGHT, MU = 10.0, 0.2
 LAMBDAS = [1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6]
-
-
-def sphere(lam, mu_spin):
-    alpha = (1.0 - lam) * math.atan(MU)
-    contacts = []
-    for az in np.deg2rad([0.0, 90.0, 180.0, 270.0]):
-        p = np.array([math.cos(alpha) * math.cos(az), math.cos(alpha) * math.sin(az),
-                      math.sin(alpha)])
-        contacts.append(gf.Contact(p, -p, MU, mu_spin))
-    return gf.Grasp(contacts)
+sphere = sphere_grasp
 
 
 def sphere_truth(lam, norm, magnitude):
