@@ -38,6 +38,13 @@ def positive_int(value, name):
     return int(value)
 
 
+def check_choice(value, allowed, name):
+    """value, if it is one of `allowed` (a dict's keys or a sequence)."""
+    if value not in allowed:
+        raise ValueError(f"{name}: must be one of {sorted(allowed)}, got {value!r}")
+    return value
+
+
 def finite_vector(value, name, n):
     """(x, x.x) for a finite float vector of n entries. An exact float64 (n,) array costs one dot
     product (~0.3 us): x.x is NaN or inf iff an entry is, so the slow checks run only to name

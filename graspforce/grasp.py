@@ -5,7 +5,7 @@ import numpy as np
 
 from . import _shooters as S
 from ._forces import shoot_and_read_forces
-from ._validate import finite_vector
+from ._validate import check_choice, finite_vector
 from .contact import Contact
 from .quality import facet_expansion, grasp_quality
 from .ray_shoot import METHODS, check_tolerances
@@ -17,7 +17,8 @@ class Grasp:
     """m contacts on one object (a hand's fingertips, a robot's feet), in one frame.
 
     matrix: the grasp map [G_1 ... G_m] of eq. (11), (6, 4m); a wrench is (force, torque about
-    the frame's origin). Wrench sets are built on first use and cached per (norm, magnitude).
+    the frame's origin); contact_matrices: the G_i stacked, (m, 6, 4). Wrench sets are built on
+    first use and cached per (norm, magnitude).
     """
 
     def __init__(self, contacts):
@@ -28,7 +29,7 @@ class Grasp:
             if not isinstance(c, Contact):
                 raise TypeError(f"contacts: expected gf.Contact, got {type(c).__name__}")
         self.contacts = contacts
-        self._matrices = np.array([c.matrix for c in contacts])     # (m, 6, 4)
+        self.contact_matrices = np.array([c.matrix for c in contacts])   # (m, 6, 4): G_i
         self._spaces = {}
 
     def __len__(self):
@@ -37,11 +38,11 @@ class Grasp:
     @property
     def matrix(self):
         """[G_1 ... G_m] of eq. (11), (6, 4m): maps the stacked local forces to the resultant."""
-        return np.hstack(self._matrices)
+        return np.hstack(self.contact_matrices)
 
     def contact_sets(self, magnitude="normal"):
         """[W_1, ..., W_m]: each contact's wrenches at unit force magnitude (eq. 14)."""
-        _check_choice(magnitude, MAGNITUDES, "magnitude")
+        check_choice(magnitude, MAGNITUDES, "magnitude")
         return [contact_set(c, magnitude)[0] for c in self.contacts]
 
     def wrench_set(self, norm="L1", magnitude="normal"):
@@ -51,8 +52,8 @@ class Grasp:
     def _space(self, norm, magnitude):
         space = self._spaces.get((norm, magnitude))
         if space is None:
-            _check_choice(norm, NORMS, "norm")
-            _check_choice(magnitude, MAGNITUDES, "magnitude")
+            check_choice(norm, NORMS, "norm")
+            check_choice(magnitude, MAGNITUDES, "magnitude")
             space = self._spaces[(norm, magnitude)] = WrenchSpace(self.contacts, norm, magnitude)
         return space
 
@@ -68,9 +69,7 @@ class Grasp:
         forces are read off the witnesses of Z_W(r).
         """
         space = self._space(norm, magnitude)
-        code = METHODS.get(method)
-        if code is None:
-            raise ValueError(f"method: must be one of {sorted(METHODS)}, got {method!r}")
+        code = METHODS[check_choice(method, METHODS, "method")]
         w, ww = finite_vector(w_ext, "w_ext", 6)
         eps, max_iter = check_tolerances(eps, max_iter)
         W = space.set
@@ -79,7 +78,7 @@ class Grasp:
         r = -w
         ints, floats = W.program
         out, forces, wrenches, resultant, sigma = shoot_and_read_forces(
-            ints, floats, r, W.witness_size, code, eps, max_iter, self._matrices, space.table,
+            ints, floats, r, W.witness_size, code, eps, max_iter, self.contact_matrices, space.table,
             space.maps, norm == "Linf", magnitude == "full", space.spin_weight)
         status = out[0]
         if status == S.MISS or (status == S.HIT and sigma == math.inf):
@@ -135,7 +134,3 @@ class Grasp:
     def __repr__(self):
         return f"Grasp({len(self.contacts)} contacts)"
 
-
-def _check_choice(value, allowed, name):
-    if value not in allowed:
-        raise ValueError(f"{name}: must be one of {list(allowed)}, got {value!r}")

@@ -31,7 +31,7 @@ import numpy as np
 
 from ._growth import BAD_POSE_A, COINCIDENT, query, unpack
 from ._shooters import HIT
-from ._validate import finite_array
+from ._validate import check_choice, finite_array
 from .quality import facet_expansion
 from .ray_shoot import METHODS, check_tolerances, make_ray_shot
 from .results import GrowthDistanceResult
@@ -85,8 +85,7 @@ class GrowthDistance:
             if X.dim != 3:
                 raise ValueError(f"{name}: must be a 3-D set, got dimension {X.dim}")
             _check_origin_interior(X, name)
-        if method not in METHODS:
-            raise ValueError(f"method: must be one of {sorted(METHODS)}, got {method!r}")
+        self._code = METHODS[check_choice(method, METHODS, "method")]
         self.A, self.B, self.method = A, B, method
         self.eps, self.max_iter = check_tolerances(eps, max_iter)
         if not (type(touching_tol) is float and 0.0 <= touching_tol < 1.0):
@@ -102,7 +101,6 @@ class GrowthDistance:
         self._mb = int(ints[pstart + ints[children + 1]] + 2)
         self._ints, self._floats = ints, floats
         self._ws = self.delta.witness_size
-        self._code = METHODS[method]
         self._leaves_a = len(A.leaves())
         self.warm_start = bool(warm_start) and method == "zc-ie"
         self._normal = _NO_NORMAL

@@ -3,7 +3,7 @@ import math
 
 from . import _shooters as S
 from ._dispatch import shoot
-from ._validate import finite_scalar, finite_vector, positive_int
+from ._validate import check_choice, finite_scalar, finite_vector, positive_int
 from .results import RayShot
 from .sets import ConvexSet
 
@@ -38,11 +38,9 @@ def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=1000):
     bounds the relative error in t by eps (t_upper / t - 1 <= eps).
     max_iter: iteration limit; reaching it is the status "max_iter", never an exception.
     """
-    if method not in METHODS:
-        raise ValueError(f"method: must be one of {sorted(METHODS)}, got {method!r}")
+    code = METHODS[check_choice(method, METHODS, "method")]
     r, eps, max_iter = check_ray_input(A, r, eps, max_iter)
     ints, floats = A.program
-    code = METHODS[method]
     out = shoot(ints, floats, r, A.witness_size, code, eps, max_iter)
     return make_ray_shot(A, r, method, out)
 

@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 
-from .._validate import finite_vector
+from .._validate import check_choice, finite_vector
 from ..contact import Contact
 from ..grasp import Grasp
 from ..results import MinForce
@@ -20,13 +20,11 @@ def check_problem(grasp, norm, magnitude):
         contacts = tuple(grasp)
         if not contacts or not all(isinstance(c, Contact) for c in contacts):
             raise ValueError("grasp: must be a gf.Grasp or a non-empty sequence of gf.Contact")
-    if norm not in NORMS:
-        raise ValueError(f"norm: must be one of {list(NORMS)}, got {norm!r}")
-    if magnitude not in MAGNITUDES:
-        raise ValueError(f"magnitude: must be one of {list(MAGNITUDES)}, got {magnitude!r}")
+    check_choice(norm, NORMS, "norm")
+    check_choice(magnitude, MAGNITUDES, "magnitude")
     # a Grasp keeps its G_i: reading them is free, rebuilding them costs ~15 us per contact,
     # which would be charged to the baselines built per call
-    matrices = (grasp.matrix.reshape(6, -1, 4).transpose(1, 0, 2) if isinstance(grasp, Grasp)
+    matrices = (grasp.contact_matrices if isinstance(grasp, Grasp)
                 else np.array([c.matrix for c in contacts]))
     return Objective(contacts, matrices, norm, magnitude)
 
