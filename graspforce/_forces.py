@@ -4,6 +4,7 @@ from numba import njit
 
 from ._dispatch import shoot
 from ._linalg import dot
+from ._packed import pack
 from ._shooters import MISS
 
 # rows of a wrench space's leaf table (graspforce.wrench_space.WrenchSpace.table)
@@ -12,13 +13,16 @@ ORIGIN_FLOOR = 1e-12   # |z| <= this times W's size: z is the origin to rounding
 
 
 @njit(cache=True)
-def shoot_and_read_forces(ints, floats, r, ws, method, eps, max_iter, G, table, maps, linf, full,
-                          spin_weight):
-    """One compiled call per min_force: z = t r on W by `method`, then the forces read off Z_W(r).
+def shoot_and_read_forces(ints, floats, w_ext, ws, method, eps, max_iter, G, table, maps, linf,
+                          full, spin_weight):
+    """One compiled call per min_force: z = t r on W by `method` (r = -w_ext), then the forces
+    read off Z_W(r).
 
-    Returns (raw ray-shooting result, forces (m, 4), wrenches (m, 6), resultant (6,), sigma);
-    zero forces and sigma = inf when the ray misses W or leaves it at the origin (to rounding).
+    Returns the packed ray-shooting result (graspforce._packed) whose extra entries are
+    [sigma, forces (m, 4), wrenches (m, 6), resultant (6,)] (`unpack_forces`); zero forces and
+    sigma = inf when the ray misses W or leaves it at the origin (to rounding).
     """
+    r = -w_ext
     out = shoot(ints, floats, r, ws, method, eps, max_iter)
     t = out[1]
     m = G.shape[0]
@@ -27,14 +31,31 @@ def shoot_and_read_forces(ints, floats, r, ws, method, eps, max_iter, G, table, 
     for k in range(V.shape[0]):
         for a in range(V.shape[1]):
             size = max(size, abs(V[k, a]))
+    extra = np.zeros(1 + 10 * m + 6)
     # a point of W at t r with |t r| at the rounding of W's size is the origin: an Linf set
     # contains 0, and a ray that leaves W there has no finite forces (the witnesses' forces,
     # scaled by 1/t, would be rounding blown up)
     if out[0] == MISS or not t * np.sqrt(dot(r, r)) > ORIGIN_FLOOR * size:
-        return out, np.zeros((m, 4)), np.zeros((m, 6)), np.zeros(6), np.inf
+        extra[0] = np.inf
+        return pack(out, extra)
     forces, wrenches, resultant, sigma = contact_forces(out[9], out[8], 1.0 / t, G, table, maps,
                                                        linf, full, spin_weight)
-    return out, forces, wrenches, resultant, sigma
+    extra[0] = sigma
+    for i in range(m):
+        for a in range(4):
+            extra[1 + 4 * i + a] = forces[i, a]
+        for a in range(6):
+            extra[1 + 4 * m + 6 * i + a] = wrenches[i, a]
+    for a in range(6):
+        extra[1 + 10 * m + a] = resultant[a]
+    return pack(out, extra)
+
+
+def unpack_forces(packed, m):
+    """(sigma, forces (m, 4), wrenches (m, 6), resultant (6,)) as views of the packed result;
+    the extra entries' count is 1 + 10 m + 6."""
+    return (float(packed[0]), packed[1:1 + 4 * m].reshape(m, 4),
+            packed[1 + 4 * m:1 + 10 * m].reshape(m, 6), packed[1 + 10 * m:7 + 10 * m])
 
 
 @njit(cache=True)

@@ -8,6 +8,7 @@ import numpy as np
 from numba import njit
 
 from ._dispatch import shoot
+from ._packed import pack
 from ._shooters import HIT, LIMIT, _result
 from ._warm import shoot_warm
 
@@ -45,52 +46,16 @@ def _proper(R, p):
 
 
 @njit(cache=True)
-def _pack(frame, out):
-    """One array [frame (24), normal (3), weights (k), V (k, 3), W (k, ws)] instead of five:
-    returning an array to Python costs ~0.3 us, so this saves ~1.2 us a query."""
-    V, lam, W = out[7], out[8], out[9]
-    k, ws = W.shape
-    packed = np.empty(27 + k * (4 + ws))
-    for a in range(24):
-        packed[a] = frame[a]
-    for a in range(3):
-        packed[24 + a] = out[6][a]
-    pos = 27
-    for j in range(k):
-        packed[pos + j] = lam[j]
-    pos += k
-    for j in range(k):
-        for a in range(3):
-            packed[pos + 3 * j + a] = V[j, a]
-    pos += 3 * k
-    for j in range(k):
-        for a in range(ws):
-            packed[pos + ws * j + a] = W[j, a]
-    return out[0], out[1], out[2], out[3], out[4], out[5], out[10], packed
-
-
-def unpack(head, packed, ws):
-    """The result tuple of `_dispatch.shoot` and the frame from `query`'s answer."""
-    k = (packed.shape[0] - 27) // (4 + ws)
-    status, t, t_up, h_n, iters, calls, singular = head
-    V = packed[27 + k:27 + 4 * k].reshape(k, 3)
-    W = packed[27 + 4 * k:].reshape(k, ws)
-    out = (status, t, t_up, h_n, iters, calls, packed[24:27], V, packed[27:27 + k], W, singular)
-    return out, packed[:24]
-
-
-@njit(cache=True)
 def query(ints, floats, ma, mb, ws, R_a, p_a, R_b, p_b, method, eps, max_iter, warm, normal,
           spread):
     """(code, status, t, t_upper, h_n, iterations, support_calls, singular, packed,
-    next_spread) for
-    Delta = R_A(A_0) - R_B(B_0) and r = p_B - p_A (eq. 10): the result tuple of
-    `_dispatch.shoot`, its arrays packed with the frame [R_A, p_A, R_B, p_B] in one array
-    (`unpack`). The frame is a copy, so that the record's contact stays right if the caller
-    reuses its pose arrays. The program's Affine nodes hold M = R_A at floats[ma:ma + 9] and
-    M = -R_B at floats[mb:mb + 9] (row-major), overwritten here. warm: start ZC-IE from probes
-    around `normal` at `spread` (graspforce._warm); next_spread is the spread for the next
-    warm call."""
+    next_spread) for Delta = R_A(A_0) - R_B(B_0) and r = p_B - p_A (eq. 10): the result of
+    `_dispatch.shoot` with its arrays packed after the frame [R_A, p_A, R_B, p_B]
+    (graspforce._packed). The frame is a copy, so that the record's contact stays right if the
+    caller reuses its pose arrays. The program's Affine nodes hold M = R_A at
+    floats[ma:ma + 9] and M = -R_B at floats[mb:mb + 9] (row-major), overwritten here. warm:
+    start ZC-IE from probes around `normal` at `spread` (graspforce._warm); next_spread is the
+    spread for the next warm call."""
     frame = np.empty(24)
     for a in range(3):
         for b in range(3):
@@ -128,4 +93,4 @@ def query(ints, floats, ma, mb, ws, R_a, p_a, R_b, p_b, method, eps, max_iter, w
         for a in range(3):
             dn += (out[6][a] - normal[a]) ** 2
         next_spread = min(max(SPREAD_GAIN * np.sqrt(dn), SPREAD_MIN), SPREAD_MAX)
-    return (code,) + _pack(frame, out) + (next_spread,)
+    return (code,) + pack(out, frame) + (next_spread,)

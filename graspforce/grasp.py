@@ -4,7 +4,8 @@ import math
 import numpy as np
 
 from . import _shooters as S
-from ._forces import shoot_and_read_forces
+from ._forces import shoot_and_read_forces, unpack_forces
+from ._packed import HEAD
 from ._validate import check_choice, finite_vector
 from .contact import Contact
 from .quality import facet_expansion, grasp_quality
@@ -75,23 +76,25 @@ class Grasp:
         W = space.set
         if ww == 0.0:
             return self._without_forces(space, "optimal", 0.0, method, None)
-        r = -w
         ints, floats = W.program
-        out, forces, wrenches, resultant, sigma = shoot_and_read_forces(
-            ints, floats, r, W.witness_size, code, eps, max_iter, self.contact_matrices, space.table,
+        res = shoot_and_read_forces(
+            ints, floats, w, W.witness_size, code, eps, max_iter, self.contact_matrices, space.table,
             space.maps, norm == "Linf", magnitude == "full", space.spin_weight)
-        status = out[0]
+        m = len(self.contacts)
+        head, packed = res[:HEAD], res[HEAD]
+        sigma, forces, wrenches, resultant = unpack_forces(packed, m)
+        ray = (W, w, head, packed, 7 + 10 * m)
+        status = head[0]
         if status == S.MISS or (status == S.HIT and sigma == math.inf):
             # a separating hyperplane, or a ray that leaves W at the origin: no finite forces
-            return self._without_forces(space, "infeasible", math.inf, method, (W, r, out))
+            return self._without_forces(space, "infeasible", math.inf, method, ray)
         if sigma == math.inf:
-            return self._without_forces(space, "max_iter", math.inf, method, (W, r, out))
+            return self._without_forces(space, "max_iter", math.inf, method, ray)
         return MinForce(
             feasible=True, status="optimal" if status == S.HIT else "max_iter", sigma=sigma,
-            sigma_lower=1.0 / out[2], forces=forces, world_forces=wrenches[:, :3],
+            sigma_lower=1.0 / head[2], forces=forces, world_forces=wrenches[:, :3],
             wrenches=wrenches, resultant=resultant, norm=norm, magnitude=magnitude,
-            method=method, iterations=int(out[4]), support_calls=int(out[5]),
-            ray=(W, r, out))
+            method=method, iterations=head[4], support_calls=head[5], ray=ray)
 
     def _without_forces(self, space, status, sigma, method, ray):
         """The record of a zero wrench (sigma 0), an infeasible one or an undecided one (inf)."""

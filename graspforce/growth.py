@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from ._growth import BAD_POSE_A, COINCIDENT, query, unpack
+from ._growth import BAD_POSE_A, COINCIDENT, query
 from ._shooters import HIT
 from ._validate import check_choice, finite_array
 from .quality import facet_expansion
@@ -159,8 +159,9 @@ def shot_of(result):
     solver, res = result._raw
     if res[0] == COINCIDENT:
         return None
-    out, frame = unpack(res[1:8], res[8], solver._ws)
-    return make_ray_shot(solver.delta, frame[21:] - frame[9:12], solver.method, out)
+    frame = res[8]
+    return make_ray_shot(solver.delta, frame[21:24] - frame[9:12], solver.method, res[1:8],
+                         frame, extra=24)
 
 
 def contact_from_shot(result):

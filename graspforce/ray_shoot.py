@@ -1,8 +1,12 @@
 """gf.ray_shoot: z_A(r), Z_A(r) and a supporting hyperplane by the five procedures of section 3."""
 import math
 
+import numpy as np
+from numba import njit
+
 from . import _shooters as S
 from ._dispatch import shoot
+from ._packed import HEAD, pack
 from ._validate import check_choice, finite_scalar, finite_vector, positive_int
 from .results import RayShot
 from .sets import ConvexSet
@@ -41,16 +45,16 @@ def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=1000):
     code = METHODS[check_choice(method, METHODS, "method")]
     r, eps, max_iter = check_ray_input(A, r, eps, max_iter)
     ints, floats = A.program
-    out = shoot(ints, floats, r, A.witness_size, code, eps, max_iter)
-    return make_ray_shot(A, r, method, out)
+    head_packed = shoot_packed(ints, floats, r, A.witness_size, code, eps, max_iter)
+    return make_ray_shot(A, r, method, head_packed[:HEAD], head_packed[HEAD])
 
 
-def make_ray_shot(A, r, method, out):
-    status, t, t_up, h_n, iters, calls, normal, V, weights, W, singular = out
-    hit = status == S.HIT
-    return RayShot(
-        hit=hit, status=_STATUS[status], method=method, t=t, t_upper=t_up, point=t * r,
-        vertices=V, weights=weights, witness_rows=W, convex_set=A,
-        normal=normal, support_value=h_n,
-        error_bound=(t_up - t) * math.sqrt(r @ r) if hit else math.inf,
-        iterations=int(iters), support_calls=int(calls), singular_steps=int(singular))
+@njit(cache=True)
+def shoot_packed(ints, floats, r, ws, method, eps, max_iter):
+    return pack(shoot(ints, floats, r, ws, method, eps, max_iter), np.empty(0))
+
+
+def make_ray_shot(A, r, method, head, packed, extra=0):
+    """The RayShot of a compiled result: `head` its scalars, `packed` its arrays after `extra`
+    entries of the caller's (graspforce._packed)."""
+    return RayShot(A, r, method, head[0] == S.HIT, _STATUS[head[0]], head, packed, extra)

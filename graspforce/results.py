@@ -6,7 +6,6 @@ from functools import cached_property
 import numpy as np
 
 
-@dataclass
 class RayShot:
     """The answer to the ray-shooting problem of section 2.1 for A and R(r).
 
@@ -16,34 +15,63 @@ class RayShot:
     lies between t r and t_upper r and ||z_A(r) - point|| <= error_bound = (t_upper - t) ||r||.
     On a miss, normal^T r > 0 >= support_value certifies that the ray and A do not meet
     (support_value is exactly 0 only for a ray grazing CO(A) to rounding).
-    A plain (not frozen) dataclass: freezing costs a microsecond per result on the hot path;
-    treat it as read-only.
     singular_steps counts the iterations in which the ray crossed the inner polytope through a
     face of dimension < n - 1: IE's facet-collection steps, ZC-IE's hand-overs to ZC-based
     iterations (section 3.2, 3.4.2); 0 for the other methods.
+    The arrays are views of the one array the compiled shooter returned (graspforce._packed),
+    taken when first read: a caller who needs only t pays for none of them. Read-only.
     """
-    hit: bool
-    status: str
-    method: str
-    t: float
-    t_upper: float
-    point: np.ndarray
-    vertices: np.ndarray
-    weights: np.ndarray
-    witness_rows: np.ndarray = field(repr=False)   # raw witness vectors, one row per vertex
-    convex_set: object = field(repr=False)
-    normal: np.ndarray
-    support_value: float
-    error_bound: float
-    iterations: int
-    support_calls: int
-    singular_steps: int
+
+    def __init__(self, convex_set, r, method, hit, status, head, packed, extra=0):
+        self.convex_set = convex_set
+        self.r = r
+        self.method = method
+        self.hit = hit
+        self.status = status
+        _, self.t, self.t_upper, self.support_value, self.iterations, self.support_calls, \
+            self.singular_steps = head
+        self._packed = packed
+        self._extra = extra
+
+    @cached_property
+    def _arrays(self):
+        from ._packed import unpack
+        self._packed.flags.writeable = False
+        return unpack(self._packed, self._extra, self.r.shape[0], self.convex_set.witness_size)
+
+    @property
+    def normal(self):
+        return self._arrays[0]
+
+    @property
+    def weights(self):
+        return self._arrays[1]
+
+    @property
+    def vertices(self):
+        return self._arrays[2]
+
+    @property
+    def witness_rows(self):
+        """Raw witness vectors, one row per vertex."""
+        return self._arrays[3]
+
+    @cached_property
+    def point(self):
+        return self.t * self.r
+
+    @property
+    def error_bound(self):
+        return (self.t_upper - self.t) * float(np.sqrt(self.r @ self.r)) if self.hit else np.inf
 
     @cached_property
     def witnesses(self):
-        """One decoded witness per vertex: ((leaf_index, local), ...) (decoded on first use, so
-        that a caller who needs only t pays nothing for it)."""
+        """One decoded witness per vertex: ((leaf_index, local), ...)."""
         return tuple(self.convex_set.decode_witness(w) for w in self.witness_rows)
+
+    def __repr__(self):
+        return (f"RayShot(hit={self.hit}, status={self.status!r}, method={self.method!r}, "
+                f"t={self.t!r}, t_upper={self.t_upper!r}, iterations={self.iterations})")
 
 
 @dataclass(frozen=True)
@@ -110,7 +138,7 @@ class MinForce:
     method: str
     iterations: int
     support_calls: int
-    ray: tuple = field(repr=False)      # (W, r, raw result); None for a zero wrench
+    ray: tuple = field(repr=False)  # (W, w_ext, head, packed, extra) (graspforce._packed); or None
 
     @cached_property
     def shot(self):
@@ -119,8 +147,8 @@ class MinForce:
         if self.ray is None:
             return None
         from .ray_shoot import make_ray_shot
-        W, r, out = self.ray
-        return make_ray_shot(W, r, self.method, out)
+        W, w_ext, head, packed, extra = self.ray
+        return make_ray_shot(W, -w_ext, self.method, head, packed, extra)
 
 
 @dataclass(frozen=True)

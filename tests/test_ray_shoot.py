@@ -430,3 +430,30 @@ def test_default_method_and_counters(method):
     assert default.method == "zc-ie"
     hit, t, _ = T.ray_shoot_lp(V, r)
     assert abs(default.t - t) <= 1e-9 * t
+
+
+# ----------------------------------------------------------------------------------------------
+# the record: one packed array from compiled code, views taken on first read
+# ----------------------------------------------------------------------------------------------
+@pytest.mark.parametrize("method", METHODS)
+def test_record_matches_the_compiled_result(method):
+    """RayShot's fields are exactly the shooter's own result tuple, read through the packed array
+    (graspforce._packed) that crosses to Python; the views are consistent with each other."""
+    from graspforce._dispatch import shoot
+    from graspforce.ray_shoot import METHODS as CODES
+    rng = np.random.default_rng(5)
+    A = gf.hull(gf.Ellipsoid(*random_ellipsoid(rng, 5, k=3)), gf.Polytope(rng.standard_normal((7, 5))))
+    r = rng.standard_normal(5)
+    res = gf.ray_shoot(A, r, method=method)
+    ints, floats = A.program
+    out = shoot(ints, floats, r, A.witness_size, CODES[method], 1e-9, 1000)
+    assert (res.t, res.t_upper, res.support_value, res.iterations, res.support_calls,
+            res.singular_steps) == (out[1], out[2], out[3], out[4], out[5], out[10])
+    np.testing.assert_array_equal(res.normal, out[6])
+    np.testing.assert_array_equal(res.vertices, out[7])
+    np.testing.assert_array_equal(res.weights, out[8])
+    np.testing.assert_array_equal(res.witness_rows, out[9])
+    np.testing.assert_array_equal(res.point, res.t * r)
+    assert res.error_bound == ((res.t_upper - res.t) * np.linalg.norm(r) if res.hit else np.inf)
+    for row, witness in zip(res.vertices, res.witnesses):
+        np.testing.assert_allclose(A.witness_point(witness), row, atol=1e-12)
