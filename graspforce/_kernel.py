@@ -2,20 +2,21 @@
 
 A convex set compiles to a *support program*: a tree of nodes stored in pre-order (a parent before
 its children) in flat arrays. `support` evaluates h_A(u) and s_A(u) of eq. (2) for any program in
-three passes: directions flow down the tree (an affine node maps u to M^T u), support points flow
-up (a hull keeps its best child, a sum adds), and finally the leaves that produced the point are
-flagged in the witness vector. Every algorithm is compiled once against this kernel, whatever the
-shape.
+four passes: directions flow down the tree (an affine node maps u to M^T u), support values flow
+up (a hull keeps its best child, a sum adds), the leaves that produced the point are flagged in the
+witness vector, and the support point is built up from the flagged nodes only. Every algorithm is
+compiled once against this kernel, whatever the shape.
 
 A program is two arrays, `ints` and `floats`, so that a call from Python unboxes two arrays, not
-twelve. `ints` = [nn, kind, dim, pstart, cstart, ccount, wstart, dstart, choice, active, children]
-(each block nn long but `children`); `floats` = [params, scratch]. The blocks:
+twelve. `ints` = [nn, kind, dim, pstart, cstart, ccount, wstart, dstart, ostart, choice,
+active, children] (each block nn long but `children`); `floats` = [params, scratch]. The blocks:
     kind[i]      node kind (constants below)
     dim[i]       dimension of the node's output space
     pstart[i]    offset of the node's parameters in `params`
     cstart[i], ccount[i]   its children are children[cstart[i] : cstart[i] + ccount[i]]
     wstart[i]    leaves: offset of its witness slot [active, local...] in the witness vector
-    dstart[i]    offset of its direction, point and value in `scratch`
+    dstart[i]    offset of its direction in `scratch`: its parent's, unless the parent is affine
+    ostart[i]    offset of its point and value in `scratch`
     choice[i], active[i]   work arrays: a hull's best child, whether node i produced the point
 """
 import numpy as np
@@ -31,11 +32,25 @@ SUM = 11
 AFFINE = 12    # params: m, n, M (m*n), t (m)
 
 
-@njit(cache=True)
-def _leaf_support(k, f, p, d, wit, w):
-    """Support of one leaf: parameters at f[p:], direction at f[d:d + dim], point written to
-    f[d + dim:], local witness to wit[w + 1:]. Offsets, not slices: a slice costs a reference
-    count round trip, which at a few hundred nanoseconds a call dominates the arithmetic."""
+def param_start(ints, node):
+    """Offset of a node's parameters in `floats` (Python side, for callers that update them)."""
+    return int(ints[1 + 2 * ints[0] + node])
+
+
+def children(ints, node):
+    """The node indices of a node's children (Python side)."""
+    nn = ints[0]
+    start = 1 + 10 * nn + ints[1 + 3 * nn + node]
+    return [int(c) for c in ints[start:start + ints[1 + 4 * nn + node]]]
+
+
+@njit(cache=True, inline='always')
+def _leaf_value(k, f, p, d, o, wit, w):
+    """h of one leaf: parameters at f[p:], direction at f[d:d + dim]. Writes what the leaf's point
+    needs to its witness slot wit[w + 1:] (a polytope's vertex index, an ellipsoid's S^T u); the
+    cheap leaves write their point to f[o:o + dim] too. Offsets, not slices: a slice costs a
+    reference count round trip, which at a few hundred nanoseconds a call dominates the
+    arithmetic; inlined into `support` for the same reason (10% of a hull of four ellipsoids)."""
     if k == POLYTOPE:
         m = int(f[p])
         n = int(f[p + 1])
@@ -48,47 +63,28 @@ def _leaf_support(k, f, p, d, wit, w):
             if s > best:
                 best = s
                 arg = j
-        for a in range(n):
-            f[d + n + a] = f[p + 2 + arg * n + a]
         wit[w + 1] = arg
         return best
     if k == ELLIPSOID:
         n = int(f[p])
         kk = int(f[p + 1])
-        c0 = p + 2
-        s0 = p + 2 + n
-        # x = S^T u / ||S^T u||: the pre-image of the support point on the unit ball
-        nrm2 = 0.0
-        for b in range(kk):
-            y = 0.0
-            for a in range(n):
-                y += f[s0 + a * kk + b] * f[d + a]
-            wit[w + 1 + b] = y
-            nrm2 += y * y
-        nrm = np.sqrt(nrm2)
-        inv = 1.0 / nrm if nrm > 0.0 else 0.0
-        for b in range(kk):
-            wit[w + 1 + b] *= inv
-        h = nrm
-        for a in range(n):
-            s = f[c0 + a]
-            for b in range(kk):
-                s += f[s0 + a * kk + b] * wit[w + 1 + b]
-            f[d + n + a] = s
-            h += f[c0 + a] * f[d + a]
-        return h
+        if n == 6 and kk == 3:
+            return _ellipsoid_6_3_value(f, p, d, wit, w)
+        if n == 3 and kk == 3:
+            return _ellipsoid_3_3_value(f, p, d, wit, w)
+        return _ellipsoid_value(f, p, d, wit, w, n, kk)
     if k == BOX:
         n = int(f[p])
         h = 0.0
         for a in range(n):
             half = f[p + 1 + a]
             x = half if f[d + a] >= 0.0 else -half
-            f[d + n + a] = x
+            f[o + a] = x
             h += x * f[d + a]
             wit[w + 1 + a] = x
         return h
     if k == CONE_CAP:
-        return _cone_cap_support(f, p, d, wit, w)
+        return _cone_cap_support(f, p, d, o, wit, w)
     # TRUNCATED_CONE: the hull of two coaxial disks
     rb = f[p]
     rt = f[p + 1]
@@ -109,17 +105,81 @@ def _leaf_support(k, f, p, d, wit, w):
         h = h_bot
     x = rad * ux / q if q > 0.0 else 0.0
     y = rad * uy / q if q > 0.0 else 0.0
-    f[d + 3] = x
-    f[d + 4] = y
-    f[d + 5] = z
+    f[o] = x
+    f[o + 1] = y
+    f[o + 2] = z
     wit[w + 1] = x
     wit[w + 2] = y
     wit[w + 3] = z
     return h
 
 
+def _ellipsoid_of(fixed_n, fixed_k):
+    """(value, point) of an ellipsoid leaf {c + S x : ||x|| <= 1}, compiled for the given sizes
+    or, when they are None, for any. value: h = c^T u + ||S^T u||, leaving S^T u in the witness
+    slot; point: x = S^T u / ||S^T u|| (the pre-image on the unit ball) into the slot, c + S x."""
+    @njit(cache=True, inline='always')
+    def value(f, p, d, wit, w, n=fixed_n, kk=fixed_k):
+        s0 = p + 2 + n
+        nrm2 = 0.0
+        for b in range(kk):
+            y = 0.0
+            for a in range(n):
+                y += f[s0 + a * kk + b] * f[d + a]
+            wit[w + 1 + b] = y
+            nrm2 += y * y
+        h = np.sqrt(nrm2)
+        for a in range(n):
+            h += f[p + 2 + a] * f[d + a]
+        return h
+
+    @njit(cache=True, inline='always')
+    def point(f, p, o, wit, w, n=fixed_n, kk=fixed_k):
+        s0 = p + 2 + n
+        nrm2 = 0.0
+        for b in range(kk):
+            nrm2 += wit[w + 1 + b] * wit[w + 1 + b]
+        inv = 1.0 / np.sqrt(nrm2) if nrm2 > 0.0 else 0.0
+        for b in range(kk):
+            wit[w + 1 + b] *= inv
+        for a in range(n):
+            s = f[p + 2 + a]
+            for b in range(kk):
+                s += f[s0 + a * kk + b] * wit[w + 1 + b]
+            f[o + a] = s
+    return value, point
+
+
+# the contact wrench sets of eq. (14) and 3-D bodies: loops of known length unroll, which makes
+# these about four times faster than the general loops
+_ellipsoid_value, _ellipsoid_point = _ellipsoid_of(None, None)
+_ellipsoid_6_3_value, _ellipsoid_6_3_point = _ellipsoid_of(6, 3)
+_ellipsoid_3_3_value, _ellipsoid_3_3_point = _ellipsoid_of(3, 3)
+
+
+@njit(cache=True, inline='always')
+def _leaf_point(k, f, p, o, wit, w):
+    """s of one leaf that produced the support point, from what `_leaf_value` left in its witness
+    slot, to f[o:o + dim]. Only the leaves a hull chose get here, so a hull of m ellipsoids pays
+    for one point, not m."""
+    if k == POLYTOPE:
+        n = int(f[p + 1])
+        v0 = p + 2 + int(wit[w + 1]) * n
+        for a in range(n):
+            f[o + a] = f[v0 + a]
+    elif k == ELLIPSOID:
+        n = int(f[p])
+        kk = int(f[p + 1])
+        if n == 6 and kk == 3:
+            _ellipsoid_6_3_point(f, p, o, wit, w)
+        elif n == 3 and kk == 3:
+            _ellipsoid_3_3_point(f, p, o, wit, w)
+        else:
+            _ellipsoid_point(f, p, o, wit, w, n, kk)
+
+
 @njit(cache=True)
-def _cone_cap_support(f, p, d, wit, w):
+def _cone_cap_support(f, p, d, o, wit, w):
     """Support of the unit vectors g of the circular cone K = {||g_2:n|| <= mu g_1}.
 
     For y at angle phi from the axis e_1 and the cone's half-angle beta = atan(mu), the unit
@@ -143,28 +203,28 @@ def _cone_cap_support(f, p, d, wit, w):
         # not redundant: with mu = 0 and q = 0, q <= mu y1 holds for y1 < 0 too (0 <= -0.0)
         if ny > 0.0:
             for a in range(n):
-                f[d + n + a] = f[d + a] / ny
+                f[o + a] = f[d + a] / ny
         else:
-            f[d + n] = 1.0
+            f[o] = 1.0
             for a in range(1, n):
-                f[d + n + a] = 0.0
+                f[o + a] = 0.0
         h = ny
     else:
         cb = 1.0 / np.sqrt(1.0 + mu * mu)
         sb = mu * cb
-        f[d + n] = cb
+        f[o] = cb
         if q > 0.0:
             for a in range(1, n):
-                f[d + n + a] = sb * f[d + a] / q
+                f[o + a] = sb * f[d + a] / q
         else:
             # y = -|y| e_1: every boundary ray is equally close; take the one along e_2
             for a in range(1, n):
-                f[d + n + a] = 0.0
+                f[o + a] = 0.0
             if n > 1:
-                f[d + n + 1] = sb
+                f[o + 1] = sb
         h = y1 * cb + q * sb
     for a in range(n):
-        wit[w + 1 + a] = f[d + n + a]
+        wit[w + 1 + a] = f[o + a]
     return h
 
 
@@ -173,8 +233,8 @@ def support(ints, f, u, point, wit):
     """h_A(u) (returned) and s_A(u) (into `point`) of eq. (2); the witness goes into `wit`.
 
     Blocks of `ints` (each nn long): 1 kind, 2 dim, 3 pstart, 4 cstart, 5 ccount, 6 wstart,
-    7 dstart, 8 choice, 9 active, then children. Node i's direction is at f[dstart:], its point
-    at f[dstart + dim:], its value at f[dstart + 2 dim].
+    7 dstart, 8 ostart, 9 choice, 10 active, then children. Node i reads its direction at
+    f[dstart:], writes its point to f[ostart:ostart + dim] and its value to f[ostart + dim].
     """
     nn = ints[0]
     KIND = 1
@@ -184,78 +244,60 @@ def support(ints, f, u, point, wit):
     CCOUNT = 1 + 4 * nn
     WSTART = 1 + 5 * nn
     DSTART = 1 + 6 * nn
-    CHOICE = 1 + 7 * nn
-    ACTIVE = 1 + 8 * nn
-    CHILDREN = 1 + 9 * nn
+    OSTART = 1 + 7 * nn
+    CHOICE = 1 + 8 * nn
+    ACTIVE = 1 + 9 * nn
+    CHILDREN = 1 + 10 * nn
     d0 = ints[DSTART]
     n0 = ints[DIM]
     for a in range(n0):
         f[d0 + a] = u[a]
-    # directions flow down
+    # directions flow down; the children of a hull or a sum read their parent's
     for i in range(nn):
-        k = ints[KIND + i]
-        if k < HULL:
+        if ints[KIND + i] != AFFINE:
             continue
         di = ints[DSTART + i]
         ni = ints[DIM + i]
-        for c in range(ints[CCOUNT + i]):
-            ch = ints[CHILDREN + ints[CSTART + i] + c]
-            dc = ints[DSTART + ch]
-            if k == AFFINE:
-                p0 = ints[PSTART + i]
-                nc = ints[DIM + ch]
-                for b in range(nc):
-                    s = 0.0
-                    for a in range(ni):
-                        s += f[p0 + 2 + a * nc + b] * f[di + a]
-                    f[dc + b] = s
-            else:
-                for a in range(ni):
-                    f[dc + a] = f[di + a]
-    # support points flow up
+        ch = ints[CHILDREN + ints[CSTART + i]]
+        dc = ints[DSTART + ch]
+        p0 = ints[PSTART + i]
+        nc = ints[DIM + ch]
+        for b in range(nc):
+            s = 0.0
+            for a in range(ni):
+                s += f[p0 + 2 + a * nc + b] * f[di + a]
+            f[dc + b] = s
+    # values flow up: h of every node; a hull keeps its best child
     for i in range(nn - 1, -1, -1):
         k = ints[KIND + i]
-        di = ints[DSTART + i]
+        oi = ints[OSTART + i]
         ni = ints[DIM + i]
         if k < HULL:
-            f[di + 2 * ni] = _leaf_support(k, f, ints[PSTART + i], di, wit, ints[WSTART + i])
+            h = _leaf_value(k, f, ints[PSTART + i], ints[DSTART + i], oi, wit, ints[WSTART + i])
         elif k == HULL:
-            best = -np.inf
+            h = -np.inf
             arg = ints[CHILDREN + ints[CSTART + i]]
             for c in range(ints[CCOUNT + i]):
                 ch = ints[CHILDREN + ints[CSTART + i] + c]
-                hc = f[ints[DSTART + ch] + 2 * ni]
-                if hc > best:
-                    best = hc
+                hc = f[ints[OSTART + ch] + ni]
+                if hc > h:
+                    h = hc
                     arg = ch
             ints[CHOICE + i] = arg
-            src = ints[DSTART + arg] + ni
-            for a in range(ni):
-                f[di + ni + a] = f[src + a]
-            f[di + 2 * ni] = best
         elif k == SUM:
-            for a in range(ni):
-                f[di + ni + a] = 0.0
             h = 0.0
             for c in range(ints[CCOUNT + i]):
-                dc = ints[DSTART + ints[CHILDREN + ints[CSTART + i] + c]]
-                for a in range(ni):
-                    f[di + ni + a] += f[dc + ni + a]
-                h += f[dc + 2 * ni]
-            f[di + 2 * ni] = h
+                h += f[ints[OSTART + ints[CHILDREN + ints[CSTART + i] + c]] + ni]
         else:
+            # h_{MA + t}(u) = h_A(M^T u) + t^T u
             ch = ints[CHILDREN + ints[CSTART + i]]
-            dc = ints[DSTART + ch]
             nc = ints[DIM + ch]
             p0 = ints[PSTART + i]
-            h = f[dc + 2 * nc]
+            di = ints[DSTART + i]
+            h = f[ints[OSTART + ch] + nc]
             for a in range(ni):
-                s = f[p0 + 2 + ni * nc + a]
-                h += s * f[di + a]
-                for b in range(nc):
-                    s += f[p0 + 2 + a * nc + b] * f[dc + nc + b]
-                f[di + ni + a] = s
-            f[di + 2 * ni] = h
+                h += f[p0 + 2 + ni * nc + a] * f[di + a]
+        f[oi + ni] = h
     # flag the leaves that produced the point: every child of a sum, the chosen child of a hull
     ints[ACTIVE] = 1
     for i in range(nn):
@@ -266,6 +308,37 @@ def support(ints, f, u, point, wit):
         for c in range(ints[CCOUNT + i]):
             ch = ints[CHILDREN + ints[CSTART + i] + c]
             ints[ACTIVE + ch] = ints[ACTIVE + i] if (k != HULL or ch == ints[CHOICE + i]) else 0
+    # points flow up through the flagged nodes only
+    for i in range(nn - 1, -1, -1):
+        if ints[ACTIVE + i] == 0:
+            continue
+        k = ints[KIND + i]
+        oi = ints[OSTART + i]
+        ni = ints[DIM + i]
+        if k < HULL:
+            _leaf_point(k, f, ints[PSTART + i], oi, wit, ints[WSTART + i])
+        elif k == HULL:
+            src = ints[OSTART + ints[CHOICE + i]]
+            for a in range(ni):
+                f[oi + a] = f[src + a]
+        elif k == SUM:
+            for a in range(ni):
+                f[oi + a] = 0.0
+            for c in range(ints[CCOUNT + i]):
+                oc = ints[OSTART + ints[CHILDREN + ints[CSTART + i] + c]]
+                for a in range(ni):
+                    f[oi + a] += f[oc + a]
+        else:
+            ch = ints[CHILDREN + ints[CSTART + i]]
+            oc = ints[OSTART + ch]
+            nc = ints[DIM + ch]
+            p0 = ints[PSTART + i]
+            for a in range(ni):
+                s = f[p0 + 2 + ni * nc + a]
+                for b in range(nc):
+                    s += f[p0 + 2 + a * nc + b] * f[oc + b]
+                f[oi + a] = s
+    o0 = ints[OSTART]
     for a in range(n0):
-        point[a] = f[d0 + n0 + a]
-    return f[d0 + 2 * n0]
+        point[a] = f[o0 + a]
+    return f[o0 + n0]

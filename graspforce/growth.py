@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 
+from ._kernel import children, param_start
 from ._growth import BAD_POSE_A, COINCIDENT, query
 from ._shooters import HIT
 from ._validate import check_choice, finite_array
@@ -93,12 +94,8 @@ class GrowthDistance:
         self.touching_tol = touching_tol
         self.delta = MinkowskiSum([Affine(np.eye(3), A), Affine(-np.eye(3), B)])
         ints, floats = self.delta.program
-        nn = ints[0]
-        children = 1 + 9 * nn + ints[1 + 3 * nn]          # the root's children in `ints`
-        pstart = 1 + 2 * nn
         # an Affine node's parameters are [m, n, M (row-major), t]: M starts 2 further
-        self._ma = int(ints[pstart + ints[children]] + 2)
-        self._mb = int(ints[pstart + ints[children + 1]] + 2)
+        self._ma, self._mb = (param_start(ints, node) + 2 for node in children(ints, 0))
         self._ints, self._floats = ints, floats
         self._ws = self.delta.witness_size
         self._leaves_a = len(A.leaves())

@@ -371,16 +371,23 @@ def _compile(root):
     ccount = np.zeros(nn, np.int64)
     wstart = np.full(nn, -1, np.int64)
     dstart = np.empty(nn, np.int64)
+    ostart = np.empty(nn, np.int64)
     children_of = [[] for _ in range(nn)]
     for i, (_, parent) in enumerate(nodes):
         if parent >= 0:
             children_of[parent].append(i)
     params, children, slots = [], [], []
     pos = dpos = wpos = 0
-    for i, (node, _) in enumerate(nodes):
+    for i, (node, parent) in enumerate(nodes):
         dim[i] = node.dim
-        dstart[i] = dpos
-        dpos += 2 * node.dim + 1
+        # a hull or a sum hands its direction to its children unchanged: they read it in place
+        if parent >= 0 and kind[parent] != K.AFFINE:
+            dstart[i] = dstart[parent]
+        else:
+            dstart[i] = dpos
+            dpos += node.dim
+        ostart[i] = dpos
+        dpos += node.dim + 1
         if isinstance(node, Leaf):
             kind[i] = node.kind
             p = node._params()
@@ -400,7 +407,8 @@ def _compile(root):
         pos += len(p)
     nparams = pos
     ints = np.concatenate(([nn], kind, dim, pstart, cstart, ccount, wstart, dstart + nparams,
-                           np.zeros(2 * nn, np.int64), np.array(children, np.int64)))
+                           ostart + nparams, np.zeros(2 * nn, np.int64),
+                           np.array(children, np.int64)))
     floats = np.concatenate(params + [np.zeros(dpos)])
     prog = (ints.astype(np.int64), floats)
     return prog, slots

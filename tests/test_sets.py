@@ -56,7 +56,7 @@ def test_polytope_support_exact(n):
     assert leaf == 0 and np.array_equal(V[int(local)], p)
 
 
-@pytest.mark.parametrize("nk", [(2, 2), (3, 3), (3, 2), (3, 1), (4, 2)])
+@pytest.mark.parametrize("nk", [(2, 2), (3, 3), (3, 2), (3, 1), (4, 2), (6, 3)])  # (3, 3), (6, 3): unrolled
 def test_ellipsoid_support_brute_force(nk):
     n, k = nk
     rng = np.random.default_rng(200 + 10 * n + k)
