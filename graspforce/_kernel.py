@@ -32,16 +32,24 @@ SUM = 11
 AFFINE = 12    # params: m, n, M (m*n), t (m)
 
 
+# the blocks of `ints` after nn, in order; `support` spells the same offsets out for Numba
+BLOCKS = ("kind", "dim", "pstart", "cstart", "ccount", "wstart", "dstart", "ostart", "choice",
+          "active", "children")
+
+
+def _block(ints, name, node=0):
+    return 1 + BLOCKS.index(name) * int(ints[0]) + node
+
+
 def param_start(ints, node):
     """Offset of a node's parameters in `floats` (Python side, for callers that update them)."""
-    return int(ints[1 + 2 * ints[0] + node])
+    return int(ints[_block(ints, "pstart", node)])
 
 
 def children(ints, node):
     """The node indices of a node's children (Python side)."""
-    nn = ints[0]
-    start = 1 + 10 * nn + ints[1 + 3 * nn + node]
-    return [int(c) for c in ints[start:start + ints[1 + 4 * nn + node]]]
+    start = _block(ints, "children", ints[_block(ints, "cstart", node)])
+    return [int(c) for c in ints[start:start + ints[_block(ints, "ccount", node)]]]
 
 
 @njit(cache=True, inline='always')
