@@ -1,6 +1,7 @@
 """Contact forces read off the final simplex Z_W(r) (compiled: it runs on every min_force call)."""
 import numpy as np
 from numba import njit
+from numba.extending import register_jitable
 
 from ._dispatch import shoot
 from ._linalg import dot
@@ -10,6 +11,13 @@ from ._shooters import MISS
 # rows of a wrench space's leaf table (graspforce.wrench_space.WrenchSpace.table)
 CONTACT, SLOT, SIZE, MAP = 0, 1, 2, 3
 ORIGIN_FLOOR = 1e-12   # |z| <= this times W's size: z is the origin to rounding
+
+
+@register_jitable
+def extra_size(m):
+    """Entries [sigma, forces (m, 4), wrenches (m, 6), resultant (6,)] ahead of the ray-shooting
+    arrays in the packed result of `shoot_and_read_forces`."""
+    return 7 + 10 * m
 
 
 @njit(cache=True)
@@ -31,7 +39,7 @@ def shoot_and_read_forces(ints, floats, w_ext, ws, method, eps, max_iter, G, tab
     for k in range(V.shape[0]):
         for a in range(V.shape[1]):
             size = max(size, abs(V[k, a]))
-    extra = np.zeros(1 + 10 * m + 6)
+    extra = np.zeros(extra_size(m))
     # a point of W at t r with |t r| at the rounding of W's size is the origin: an Linf set
     # contains 0, and a ray that leaves W there has no finite forces (the witnesses' forces,
     # scaled by 1/t, would be rounding blown up)
@@ -52,8 +60,7 @@ def shoot_and_read_forces(ints, floats, w_ext, ws, method, eps, max_iter, G, tab
 
 
 def unpack_forces(packed, m):
-    """(sigma, forces (m, 4), wrenches (m, 6), resultant (6,)) as views of the packed result;
-    the extra entries' count is 1 + 10 m + 6."""
+    """(sigma, forces (m, 4), wrenches (m, 6), resultant (6,)) as views of the packed result."""
     return (float(packed[0]), packed[1:1 + 4 * m].reshape(m, 4),
             packed[1 + 4 * m:1 + 10 * m].reshape(m, 6), packed[1 + 10 * m:7 + 10 * m])
 

@@ -4,7 +4,7 @@ import math
 import numpy as np
 
 from . import _shooters as S
-from ._forces import shoot_and_read_forces, unpack_forces
+from ._forces import extra_size, shoot_and_read_forces, unpack_forces
 from ._packed import HEAD
 from ._validate import check_choice, finite_vector
 from .contact import Contact
@@ -83,7 +83,7 @@ class Grasp:
         m = len(self.contacts)
         head, packed = res[:HEAD], res[HEAD]
         sigma, forces, wrenches, resultant = unpack_forces(packed, m)
-        ray = (W, w, head, packed, 7 + 10 * m)
+        ray = (W, w, head, packed, extra_size(m))
         status = head[0]
         if status == S.MISS or (status == S.HIT and sigma == math.inf):
             # a separating hyperplane, or a ray that leaves W at the origin: no finite forces
