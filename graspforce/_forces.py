@@ -20,6 +20,14 @@ def extra_size(m):
     return 7 + 10 * m
 
 
+@register_jitable
+def force_views(packed, m):
+    """(forces (m, 4), wrenches (m, 6), resultant (6,)): views of those entries, for the compiled
+    writer and the Python reader alike."""
+    return (packed[1:1 + 4 * m].reshape(m, 4), packed[1 + 4 * m:1 + 10 * m].reshape(m, 6),
+            packed[1 + 10 * m:7 + 10 * m])
+
+
 @njit(cache=True)
 def shoot_and_read_forces(ints, floats, w_ext, ws, method, eps, max_iter, G, table, maps, linf,
                           full, spin_weight):
@@ -46,29 +54,23 @@ def shoot_and_read_forces(ints, floats, w_ext, ws, method, eps, max_iter, G, tab
     if out[0] == MISS or not t * np.sqrt(dot(r, r)) > ORIGIN_FLOOR * size:
         extra[0] = np.inf
         return pack(out, extra)
-    forces, wrenches, resultant, sigma = contact_forces(out[9], out[8], 1.0 / t, G, table, maps,
-                                                       linf, full, spin_weight)
-    extra[0] = sigma
-    for i in range(m):
-        for a in range(4):
-            extra[1 + 4 * i + a] = forces[i, a]
-        for a in range(6):
-            extra[1 + 4 * m + 6 * i + a] = wrenches[i, a]
-    for a in range(6):
-        extra[1 + 10 * m + a] = resultant[a]
+    forces, wrenches, resultant = force_views(extra, m)
+    extra[0] = contact_forces(out[9], out[8], 1.0 / t, G, table, maps, linf, full, spin_weight,
+                              forces, wrenches, resultant)
     return pack(out, extra)
 
 
 def unpack_forces(packed, m):
     """(sigma, forces (m, 4), wrenches (m, 6), resultant (6,)) as views of the packed result."""
-    return (float(packed[0]), packed[1:1 + 4 * m].reshape(m, 4),
-            packed[1 + 4 * m:1 + 10 * m].reshape(m, 6), packed[1 + 10 * m:7 + 10 * m])
+    return (float(packed[0]),) + force_views(packed, m)
 
 
 @njit(cache=True)
-def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight):
-    """(forces (m, 4), wrenches (m, 6), resultant (6,), sigma) for z = sum_k weights_k v_k = t r,
-    scale = 1/t, G (m, 6, 4) the contacts' G_i of eq. (11).
+def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, forces, wrenches,
+                   resultant):
+    """sigma, with forces (m, 4), wrenches (m, 6) and resultant (6,) (zeroed by the caller)
+    filled in, for z = sum_k weights_k v_k = t r, scale = 1/t, G (m, 6, 4) the contacts' G_i of
+    eq. (11).
 
     Every vertex v_k of Z_W(r) is a sum (Linf) or one (L1) of wrenches G_i u_ki with u_ki a unit
     contact force, recovered from the vertex's witness row as base + map @ local (table: per
@@ -80,7 +82,6 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight):
     ||f_i||.
     """
     m = G.shape[0]
-    forces = np.zeros((m, 4))
     for k in range(W.shape[0]):
         c = weights[k] * scale
         for j in range(table.shape[1]):
@@ -106,8 +107,6 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight):
             sigma = max(sigma, value)
         else:
             sigma += value
-    wrenches = np.zeros((m, 6))
-    resultant = np.zeros(6)
     for i in range(m):
         for a in range(6):
             s = 0.0
@@ -115,4 +114,4 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight):
                 s += G[i, a, b] * forces[i, b]
             wrenches[i, a] = s
             resultant[a] += s
-    return forces, wrenches, resultant, sigma
+    return sigma
