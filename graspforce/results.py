@@ -5,6 +5,8 @@ from functools import cached_property
 
 import numpy as np
 
+from ._packed import unpack
+
 
 class RayShot:
     """The answer to the ray-shooting problem of section 2.1 for A and R(r).
@@ -35,7 +37,6 @@ class RayShot:
 
     @cached_property
     def _arrays(self):
-        from ._packed import unpack
         self._packed.flags.writeable = False
         return unpack(self._packed, self._extra, self.r.shape[0], self.convex_set.witness_size)
 
