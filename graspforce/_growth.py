@@ -26,6 +26,9 @@ SPREAD_GAIN = 4.0
 SPREAD_MIN = 1e-3
 SPREAD_MAX = 0.2
 
+# the query's frame [R_A (9), p_A, R_B (9), p_B]: the entries ahead of the packed ray-shooting
+# arrays (graspforce._packed)
+FRAME = 24
 
 @njit(cache=True)
 def _proper(R, p):
@@ -56,7 +59,7 @@ def query(ints, floats, ma, mb, ws, R_a, p_a, R_b, p_b, method, eps, max_iter, w
     floats[ma:ma + 9] and M = -R_B at floats[mb:mb + 9] (row-major), overwritten here. warm:
     start ZC-IE from probes around `normal` at `spread` (graspforce._warm); next_spread is the
     spread for the next warm call."""
-    frame = np.empty(24)
+    frame = np.empty(FRAME)
     for a in range(3):
         for b in range(3):
             frame[3 * a + b] = R_a[a, b]

@@ -39,9 +39,14 @@ def pack(out, extra):
     return out[0], out[1], out[2], out[3], out[4], out[5], out[10], packed
 
 
+def normal_of(packed, extra, n):
+    """The normal, a view of `packed` after `extra` entries."""
+    return packed[extra:extra + n]
+
+
 def unpack(packed, extra, n, ws):
     """(normal, weights, vertices, witness rows) as views of `packed` after `extra` entries."""
     k = (packed.shape[0] - extra - n) // (1 + n + ws)
     pos = extra + n
-    return (packed[extra:pos], packed[pos:pos + k], packed[pos + k:pos + k + n * k].reshape(k, n),
+    return (normal_of(packed, extra, n), packed[pos:pos + k], packed[pos + k:pos + k + n * k].reshape(k, n),
             packed[pos + k + n * k:].reshape(k, ws))

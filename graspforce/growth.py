@@ -30,7 +30,8 @@ import math
 import numpy as np
 
 from ._kernel import children, param_start
-from ._growth import BAD_POSE_A, COINCIDENT, query
+from ._packed import normal_of
+from ._growth import BAD_POSE_A, COINCIDENT, FRAME, query
 from ._shooters import HIT
 from ._validate import check_choice, finite_array
 from .quality import facet_expansion
@@ -130,7 +131,7 @@ class GrowthDistance:
             self._spread = res[9] if self._warm and hit else WARM_SPREAD
             self._warm = hit
             if hit:
-                self._normal = res[8][24:27]
+                self._normal = normal_of(res[8], FRAME, 3)
         # 0 is interior to Delta (both origins are interior points), so the ray always hits;
         # only max_iter stops it short, and then t is the method's last estimate (GJK's from
         # outside A, the others' from inside): no bracket
@@ -158,7 +159,7 @@ def shot_of(result):
         return None
     frame = res[8]
     return make_ray_shot(solver.delta, frame[21:24] - frame[9:12], solver.method, res[1:8],
-                         frame, extra=24)
+                         frame, extra=FRAME)
 
 
 def contact_from_shot(result):
