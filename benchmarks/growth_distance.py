@@ -236,7 +236,7 @@ def time_split(pairs, eps, method="zc-ie"):
         full.append(dt)
         calls.append(res.support_calls)
         args = (g._ints, g._floats, g._ma, g._mb, g._ws, *pa, *pb, g._code, eps, g.max_iter,
-                False, np.zeros(3), 0.05)
+                False, np.zeros(3), 0.05, g.touching_tol)
         query(*args)
         t0 = time.perf_counter_ns()
         query(*args)

@@ -31,8 +31,8 @@ import numpy as np
 
 from ._kernel import children, param_start
 from ._packed import normal_of
-from ._growth import BAD_POSE_A, COINCIDENT, FRAME, query
-from ._shooters import HIT
+from ._growth import (BAD_POSE_A, COINCIDENT, FRAME, NOT_CERTIFIED, OK, PENETRATING, POSES,
+                      SEPARATED, TOUCHING, query)
 from ._validate import check_choice, finite_array
 from .quality import facet_expansion
 from .ray_shoot import METHODS, check_tolerances, make_ray_shot
@@ -43,6 +43,8 @@ WARM_SPREAD = 0.05     # first warm start: probes at the last normal +- this (a 
 ORIGIN_TOL = 1e-9      # an origin closer than this fraction of the set's width to its boundary
                        # is not accepted as the interior point p_A of eq. (7)
 _NO_NORMAL = np.zeros(3)
+_VERDICTS = {SEPARATED: "separated", TOUCHING: "touching", PENETRATING: "penetrating",
+             NOT_CERTIFIED: "max_iter"}
 
 
 def growth_distance(A, pose_a, B, pose_b, method="zc-ie", eps=1e-9, max_iter=1000,
@@ -107,65 +109,57 @@ class GrowthDistance:
 
     def __call__(self, pose_a, pose_b):
         """The GrowthDistanceResult at these poses."""
-        R_a, p_a = parse_pose(pose_a, "pose_a")
-        R_b, p_b = parse_pose(pose_b, "pose_b")
-        res = query(self._ints, self._floats, self._ma, self._mb, self._ws, R_a, p_a, R_b, p_b,
-                    self._code, self.eps, self.max_iter, self._warm, self._normal,
-                    self._spread)
-        code, status, t, t_up = res[0], res[1], res[2], res[3]
-        if code:
-            if code == COINCIDENT:
-                # A(0) and B(0) are the same point: no direction is preferred
-                return GrowthDistanceResult(0.0, 0.0, 0.0, "penetrating", self.method, 0, 0,
-                                            (self, res))
-            name = "pose_a" if code == BAD_POSE_A else "pose_b"
-            R, p = (R_a, p_a) if code == BAD_POSE_A else (R_b, p_b)
-            finite_array(R, f"{name} rotation")
-            finite_array(p, f"{name} translation")
-            raise ValueError(f"{name}: the rotation must be proper (R^T R = I to 1e-9, "
-                             "det R = 1)")
-        hit = status == HIT
+        try:
+            # the common call, (R, p) pairs of float64 arrays, goes straight to the compiled
+            # query; anything else fails it with a TypeError (one compiled signature) or fails
+            # to unpack, and is converted below
+            (R_a, p_a), (R_b, p_b) = pose_a, pose_b
+            res = self._query(R_a, p_a, R_b, p_b)
+        except (TypeError, ValueError):
+            res = None
+        if res is None or res[0] != OK:
+            R_a, p_a = parse_pose(pose_a, "pose_a")
+            R_b, p_b = parse_pose(pose_b, "pose_b")
+            res = self._query(R_a, p_a, R_b, p_b)
+            code = res[0]
+            if code != OK and code != COINCIDENT:
+                name = "pose_a" if code == BAD_POSE_A else "pose_b"
+                raise ValueError(f"{name}: the rotation must be proper (R^T R = I to 1e-9, "
+                                 "det R = 1)")
+        code, verdict, sigma, lower, upper, iterations, calls, spread, packed = res
         if self.warm_start:
             # the first warm call probes at WARM_SPREAD, the next ones at the spread the last
             # change of the normal suggests (graspforce._growth)
-            self._spread = res[9] if self._warm and hit else WARM_SPREAD
+            hit = verdict != NOT_CERTIFIED and code == OK
+            self._spread = spread if self._warm and hit else WARM_SPREAD
             self._warm = hit
             if hit:
-                self._normal = normal_of(res[8], FRAME, 3)
-        # 0 is interior to Delta (both origins are interior points), so the ray always hits;
-        # only max_iter stops it short, and then t is the method's last estimate (GJK's from
-        # outside A, the others' from inside): no bracket
-        if not hit:
-            sigma = 1.0 / t if t > 0.0 else math.inf
-            return GrowthDistanceResult(sigma, 0.0, math.inf, "max_iter", self.method, res[5],
-                                        res[6], (self, res))
-        # an exact face of Delta can put h_Delta(n) / n^T r an ulp below t: clamp
-        upper = 1.0 / t
-        lower = min(1.0 / t_up, upper)
-        tol = self.touching_tol
-        if lower - tol <= 1.0 <= upper + tol:
-            verdict = "touching"
-        else:
-            verdict = "separated" if lower > 1.0 else "penetrating"
-        return GrowthDistanceResult(0.5 * (lower + upper), lower, upper, verdict, self.method,
-                                    res[5], res[6], (self, res))
+                # a copy: the record's packed array turns read-only once its shot is read
+                self._normal = normal_of(packed, FRAME, 3).copy()
+        return GrowthDistanceResult(sigma, lower, upper, _VERDICTS[verdict], self.method,
+                                    iterations, calls, (self, code, packed))
+
+    def _query(self, R_a, p_a, R_b, p_b):
+        return query(self._ints, self._floats, self._ma, self._mb, self._ws, R_a, p_a, R_b, p_b,
+                     self._code, self.eps, self.max_iter, self._warm, self._normal,
+                     self._spread, self.touching_tol)
 
 
 def shot_of(result):
     """The RayShot on Delta and R(p_B - p_A) behind a GrowthDistanceResult (None if the
     reference points coincide)."""
-    solver, res = result._raw
-    if res[0] == COINCIDENT:
+    solver, code, packed = result._raw
+    if code == COINCIDENT:
         return None
-    frame = res[8]
-    return make_ray_shot(solver.delta, frame[21:24] - frame[9:12], solver.method, res[1:8],
-                         frame, extra=FRAME)
+    status, t, t_upper, h_n, iterations, calls, singular = packed[POSES:FRAME].tolist()
+    head = (int(status), t, t_upper, h_n, int(iterations), int(calls), int(singular))
+    return make_ray_shot(solver.delta, packed[21:24] - packed[9:12], solver.method, head,
+                         packed, extra=FRAME)
 
 
 def contact_from_shot(result):
     """(point_a, point_b, normal) of a GrowthDistanceResult, by the derivation above."""
-    solver, res = result._raw
-    frame = res[8]
+    solver, _, frame = result._raw
     R_a, p_a = frame[:9].reshape(3, 3), frame[9:12]
     R_b, p_b = frame[12:21].reshape(3, 3), frame[21:24]
     shot = result.shot
@@ -186,17 +180,10 @@ def contact_from_shot(result):
 
 
 def parse_pose(pose, name):
-    """(R (3, 3), p (3,)) C-contiguous float64 arrays from (R, p), a 4x4 homogeneous matrix or a
-    pinocchio.SE3 (anything with .rotation and .translation). The rotation is checked in the
-    compiled query."""
-    if type(pose) is tuple and len(pose) == 2:
-        R, p = pose
-        # the common call: float64 arrays of the right shapes pass on two type checks
-        if (type(R) is np.ndarray and type(p) is np.ndarray and R.dtype == np.float64
-                and p.dtype == np.float64 and R.shape == (3, 3) and p.shape == (3,)
-                and R.flags.c_contiguous and p.flags.c_contiguous):
-            return R, p
-    elif isinstance(pose, (tuple, list)) and len(pose) == 2:
+    """(R (3, 3), p (3,)) as new C-contiguous, writable float64 arrays from (R, p), a 4x4
+    homogeneous matrix or a pinocchio.SE3 (anything with .rotation and .translation): the types
+    the compiled query takes. The rotation itself is checked in the query."""
+    if isinstance(pose, (tuple, list)) and len(pose) == 2:
         R, p = pose
     elif hasattr(pose, "rotation") and hasattr(pose, "translation"):      # pinocchio.SE3
         R, p = pose.rotation, pose.translation
@@ -208,6 +195,7 @@ def parse_pose(pose, name):
         if not np.array_equal(M[3], [0.0, 0.0, 0.0, 1.0]):
             raise ValueError(f"{name}: the last row of a homogeneous matrix must be [0, 0, 0, 1]")
         R, p = M[:3, :3], M[:3, 3]
+    # finite_array copies, so these are writable
     R = np.ascontiguousarray(finite_array(R, f"{name} rotation", shape=(3, 3)))
     p = np.ascontiguousarray(finite_array(p, f"{name} translation", shape=(3,)))
     return R, p

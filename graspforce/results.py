@@ -196,7 +196,7 @@ class GrowthDistanceResult:
     method: str
     iterations: int
     support_calls: int
-    _raw: tuple = field(repr=False)     # (the GrowthDistance, the compiled query's answer)
+    _raw: tuple = field(repr=False)     # (the GrowthDistance, its query's code, packed)
 
     @cached_property
     def shot(self):

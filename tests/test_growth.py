@@ -281,6 +281,36 @@ def test_pose_formats_agree():
     assert cold([RA.tolist(), pA.tolist()], pin.SE3(RB, pB)).sigma == ref
 
 
+def test_pose_arrays_of_any_type_and_layout_agree():
+    # the compiled query takes C-contiguous writable float64 arrays; every other array is
+    # converted on the way, never a new compilation and never a different answer
+    rng = np.random.default_rng(15)
+    A, B = gf.Capsule(0.2, 0.5), gf.Box([0.3, 0.1, 0.2])
+    RA, RB = random_rotation(rng), random_rotation(rng)
+    pA, pB = rng.normal(size=3), rng.normal(size=3)
+    solver = gf.GrowthDistance(A, B, warm_start=False)
+    ref = solver((RA, pA), (RB, pB)).sigma
+    frozen = RB.copy()
+    frozen.flags.writeable = False
+    wide = np.zeros((3, 6))
+    wide[:, ::2] = RB
+    for pose_b in ((np.asfortranarray(RB), pB), (frozen, pB), (wide[:, ::2], pB),
+                   (RB, np.repeat(pB, 2)[::2]), [RB, pB], (RB.tolist(), pB)):
+        assert solver((RA, pA), pose_b).sigma == ref
+    assert solver((RA, pA), (np.eye(3, dtype=np.int64), pB)).sigma == \
+        solver((RA, pA), (np.eye(3), pB)).sigma
+    assert len(query_signatures()) == 1
+    with pytest.raises(ValueError, match="pose_b rotation: expected shape"):
+        solver((RA, pA), (np.eye(4), pB))
+    with pytest.raises(ValueError, match="pose_a translation: expected shape"):
+        solver((RA, np.zeros(4)), (RB, pB))
+
+
+def query_signatures():
+    from graspforce._growth import query
+    return query.signatures
+
+
 def test_reused_solver_matches_one_shot_calls():
     rng = np.random.default_rng(6)
     A, B = gf.Capsule(0.2, 0.5), gf.TruncatedCone(0.4, 0.1, 0.6)
