@@ -165,6 +165,33 @@ _ellipsoid_6_3_value, _ellipsoid_6_3_point = _ellipsoid_of(6, 3)
 _ellipsoid_3_3_value, _ellipsoid_3_3_point = _ellipsoid_of(3, 3)
 
 
+def _affine_of(fixed_m, fixed_n):
+    """(pull, push) of an affine node x -> M x + t, M (m, n) row-major at f[M0:], compiled for
+    the given sizes or, when they are None, for any. pull: the child's direction M^T u from the
+    node's; push: the node's point M x + t (t at f[M0 + m n:]) from the child's."""
+    @njit(cache=True, inline='always')
+    def pull(f, M0, du, dc, m=fixed_m, n=fixed_n):
+        for b in range(n):
+            s = 0.0
+            for a in range(m):
+                s += f[M0 + a * n + b] * f[du + a]
+            f[dc + b] = s
+
+    @njit(cache=True, inline='always')
+    def push(f, M0, oc, oi, m=fixed_m, n=fixed_n):
+        for a in range(m):
+            s = f[M0 + m * n + a]
+            for b in range(n):
+                s += f[M0 + a * n + b] * f[oc + b]
+            f[oi + a] = s
+    return pull, push
+
+
+# the poses of 3-D bodies (growth distance) unroll
+_affine_pull, _affine_push = _affine_of(None, None)
+_affine_3_3_pull, _affine_3_3_push = _affine_of(3, 3)
+
+
 @njit(cache=True, inline='always')
 def _leaf_point(k, f, p, o, wit, w):
     """s of one leaf that produced the support point, from what `_leaf_value` left in its witness
@@ -270,11 +297,10 @@ def support(ints, f, u, point, wit):
         dc = ints[DSTART + ch]
         p0 = ints[PSTART + i]
         nc = ints[DIM + ch]
-        for b in range(nc):
-            s = 0.0
-            for a in range(ni):
-                s += f[p0 + 2 + a * nc + b] * f[di + a]
-            f[dc + b] = s
+        if ni == 3 and nc == 3:
+            _affine_3_3_pull(f, p0 + 2, di, dc)
+        else:
+            _affine_pull(f, p0 + 2, di, dc, ni, nc)
     # values flow up: h of every node; a hull keeps its best child
     for i in range(nn - 1, -1, -1):
         k = ints[KIND + i]
@@ -341,11 +367,10 @@ def support(ints, f, u, point, wit):
             oc = ints[OSTART + ch]
             nc = ints[DIM + ch]
             p0 = ints[PSTART + i]
-            for a in range(ni):
-                s = f[p0 + 2 + ni * nc + a]
-                for b in range(nc):
-                    s += f[p0 + 2 + a * nc + b] * f[oc + b]
-                f[oi + a] = s
+            if ni == 3 and nc == 3:
+                _affine_3_3_push(f, p0 + 2, oc, oi)
+            else:
+                _affine_push(f, p0 + 2, oc, oi, ni, nc)
     o0 = ints[OSTART]
     for a in range(n0):
         point[a] = f[o0 + a]
