@@ -48,5 +48,5 @@ def unpack(packed, extra, n, ws):
     """(normal, weights, vertices, witness rows) as views of `packed` after `extra` entries."""
     k = (packed.shape[0] - extra - n) // (1 + n + ws)
     pos = extra + n
-    return (normal_of(packed, extra, n), packed[pos:pos + k], packed[pos + k:pos + k + n * k].reshape(k, n),
-            packed[pos + k + n * k:].reshape(k, ws))
+    return (normal_of(packed, extra, n), packed[pos:pos + k],
+            packed[pos + k:pos + k + n * k].reshape(k, n), packed[pos + k + n * k:].reshape(k, ws))

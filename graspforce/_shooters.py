@@ -18,7 +18,7 @@ from numba import njit
 from ._corral import drop_point, set_row
 from ._distance import CONVERGED, INSIDE, MAX_ITER, STALLED, gjk, scratch, zc
 from ._kernel import support
-from ._linalg import dot, lstsq, lu_factor, lu_solve, lu_solve_t
+from ._linalg import dot, lstsq, lu_factor, lu_solve, lu_solve_t, smallest
 
 HIT = 0
 MISS = 1
@@ -42,7 +42,7 @@ def _result(status, t, t_up, h_n, iters, calls, normal, P, lam, Wt, k, singular)
             Wt[:k].copy(), singular)
 
 
-@njit(cache=True)
+@njit(cache=True, forceinline=True)
 def _keep(P, Wt, lam, k, Pz, Wz, lz):
     """Save the simplex holding the current point on the ray: it becomes Z_A(r) at the end.
     Element loops, not slices: a slice costs a reference-count round trip per call."""
@@ -204,7 +204,7 @@ def _invert(P, n, M, lu, piv, B, col):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, forceinline=True)
 def _matvec(B, n, x, out):
     for i in range(n):
         s = 0.0
@@ -213,7 +213,7 @@ def _matvec(B, n, x, out):
         out[i] = s
 
 
-@njit(cache=True)
+@njit(cache=True, forceinline=True)
 def _matvec_t_ones(B, n, out):
     """out = B^T 1: the facet's hyperplane y^T x = 1."""
     for j in range(n):
@@ -223,7 +223,7 @@ def _matvec_t_ones(B, n, out):
             out[j] += B[i, j]
 
 
-@njit(cache=True)
+@njit(cache=True, forceinline=True)
 def _pivot(B, n, alpha, js):
     """Column js of the facet replaced by s, with B s = alpha (Sherman-Morrison, as in the
     revised simplex method): row js of the new inverse is B[js] / alpha_js, and every other
@@ -238,7 +238,7 @@ def _pivot(B, n, alpha, js):
                 B[i, j] -= f * B[js, j]
 
 
-@njit(cache=True)
+@njit(cache=True, forceinline=True)
 def _restart(P, Wt, lam, k):
     """Warm start for the next ZC call: b_{k+1} is a convex combination of all of V_k, so
     V_k - b_{k+1} is linearly dependent; dropping one point restores independence. Drop the
@@ -314,7 +314,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                 _matvec(B, n, r, gam)
             if ok:
                 yr = dot(y, r)
-                ok = yr > 0.0 and gam.min() >= -1e-12 * yr
+                ok = yr > 0.0 and smallest(gam, n) >= -1e-12 * yr
             if not ok and age > 0:
                 age = -1          # perhaps only drift in the updated inverse: refactor first
                 continue
@@ -324,7 +324,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                 Wt[:kz] = Wz[:kz]
                 lam[:kz] = lz[:kz]
                 k = _restart(P, Wt, lam, kz)
-            elif gam.min() <= 1e-12 * yr:
+            elif smallest(gam, n) <= 1e-12 * yr:
                 # the ray crosses a lower-dimensional face of the facet: keep that face and
                 # continue with ZC-based iterations (section 3.4.2)
                 t = 1.0 / yr
@@ -361,7 +361,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     lu_solve(lu, piv, n, r, gam)
                     yr = dot(y, r)
                     nr = dot(nvec, r)
-                    if yr > 0.0 and gam.min() >= 0.0 and h / nr - 1.0 / yr <= eps / yr:
+                    if yr > 0.0 and smallest(gam, n) >= 0.0 and h / nr - 1.0 / yr <= eps / yr:
                         t = 1.0 / yr
                         for j in range(n):
                             lam[j] = gam[j] * t

@@ -78,8 +78,8 @@ class Grasp:
             return self._without_forces(space, "optimal", 0.0, method, None)
         ints, floats = W.program
         res = shoot_and_read_forces(
-            ints, floats, w, W.witness_size, code, eps, max_iter, self.contact_matrices, space.table,
-            space.maps, norm == "Linf", magnitude == "full", space.spin_weight)
+            ints, floats, w, W.witness_size, code, eps, max_iter, self.contact_matrices,
+            space.table, space.maps, norm == "Linf", magnitude == "full", space.spin_weight)
         m = len(self.contacts)
         head, packed = res[:HEAD], res[HEAD]
         sigma, forces, wrenches, resultant = unpack_forces(packed, m)
