@@ -1,10 +1,9 @@
 """Contact forces read off the final simplex Z_W(r) (compiled: it runs on every min_force call)."""
 import numpy as np
-from numba import njit
+from numba import njit, types
 from numba.extending import register_jitable
 
 from ._dispatch import shoot
-from ._linalg import dot
 from ._packed import pack
 from ._shooters import MISS
 
@@ -26,43 +25,6 @@ def force_views(packed, m):
     writer and the Python reader alike."""
     return (packed[1:1 + 4 * m].reshape(m, 4), packed[1 + 4 * m:1 + 10 * m].reshape(m, 6),
             packed[1 + 10 * m:7 + 10 * m])
-
-
-@njit(cache=True)
-def shoot_and_read_forces(ints, floats, w_ext, ws, method, eps, max_iter, G, table, maps, linf,
-                          full, spin_weight):
-    """One compiled call per min_force: z = t r on W by `method` (r = -w_ext), then the forces
-    read off Z_W(r).
-
-    Returns the packed ray-shooting result (graspforce._packed) whose extra entries are
-    [sigma, forces (m, 4), wrenches (m, 6), resultant (6,)] (`unpack_forces`); zero forces and
-    sigma = inf when the ray misses W or leaves it at the origin (to rounding).
-    """
-    r = -w_ext
-    out = shoot(ints, floats, r, ws, method, eps, max_iter)
-    t = out[1]
-    m = G.shape[0]
-    V = out[7]
-    size = 0.0
-    for k in range(V.shape[0]):
-        for a in range(V.shape[1]):
-            size = max(size, abs(V[k, a]))
-    extra = np.zeros(extra_size(m))
-    # a point of W at t r with |t r| at the rounding of W's size is the origin: an Linf set
-    # contains 0, and a ray that leaves W there has no finite forces (the witnesses' forces,
-    # scaled by 1/t, would be rounding blown up)
-    if out[0] == MISS or not t * np.sqrt(dot(r, r)) > ORIGIN_FLOOR * size:
-        extra[0] = np.inf
-        return pack(out, extra)
-    forces, wrenches, resultant = force_views(extra, m)
-    extra[0] = contact_forces(out[9], out[8], 1.0 / t, G, table, maps, linf, full, spin_weight,
-                              forces, wrenches, resultant)
-    return pack(out, extra)
-
-
-def unpack_forces(packed, m):
-    """(sigma, forces (m, 4), wrenches (m, 6), resultant (6,)) as views of the packed result."""
-    return (float(packed[0]),) + force_views(packed, m)
 
 
 @njit(cache=True)
@@ -115,3 +77,57 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, f
             wrenches[i, a] = s
             resultant[a] += s
     return sigma
+
+
+_VECTOR = types.float64[::1]
+_SIGNATURE = (types.int64[::1], _VECTOR, _VECTOR, types.int64, types.int64, types.float64,
+              types.int64, types.float64[:, :, ::1], types.int64[:, ::1], _VECTOR,
+              types.boolean, types.boolean, _VECTOR)
+
+# what shoot_and_read_forces says of w_ext before any shot
+SHOT = 0
+ZERO_WRENCH = 1       # w_ext = 0: no force needed, sigma = 0
+BAD_WRENCH = 2        # not 6 entries, or not finite
+
+
+@njit(_SIGNATURE, cache=True)
+def shoot_and_read_forces(ints, floats, w_ext, ws, method, eps, max_iter, G, table, maps, linf,
+                          full, spin_weight):
+    """One compiled call per min_force: z = t r on W by `method` (r = -w_ext), then the forces
+    read off Z_W(r). Compiled for one signature, so that a wrench of another type fails the call
+    with a TypeError (the caller converts it and calls again) instead of compiling anew.
+
+    Returns (verdict, status, t, t_upper, h_n, iterations, support_calls, singular_steps,
+    packed): verdict SHOT with the packed ray-shooting result (graspforce._packed) whose extra
+    entries are [sigma, forces (m, 4), wrenches (m, 6), resultant (6,)] (`force_views`); zero
+    forces and sigma = inf when the ray misses W or leaves it at the origin (to rounding). Or
+    verdict ZERO_WRENCH or BAD_WRENCH and no shot.
+    """
+    ww = 0.0
+    for a in range(w_ext.shape[0]):
+        ww += w_ext[a] * w_ext[a]
+    # x.x is NaN or inf iff an entry is (or the squares overflow)
+    if w_ext.shape[0] != 6 or not np.isfinite(ww):
+        return BAD_WRENCH, 0, 0.0, 0.0, 0.0, 0, 0, 0, np.empty(0)
+    if ww == 0.0:
+        return ZERO_WRENCH, 0, 0.0, 0.0, 0.0, 0, 0, 0, np.empty(0)
+    r = -w_ext
+    out = shoot(ints, floats, r, ws, method, eps, max_iter)
+    t = out[1]
+    m = G.shape[0]
+    V = out[7]
+    size = 0.0
+    for k in range(V.shape[0]):
+        for a in range(V.shape[1]):
+            size = max(size, abs(V[k, a]))
+    extra = np.zeros(extra_size(m))
+    # a point of W at t r with |t r| at the rounding of W's size is the origin: an Linf set
+    # contains 0, and a ray that leaves W there has no finite forces (the witnesses' forces,
+    # scaled by 1/t, would be rounding blown up)
+    if out[0] == MISS or not t * np.sqrt(ww) > ORIGIN_FLOOR * size:
+        extra[0] = np.inf
+    else:
+        forces, wrenches, resultant = force_views(extra, m)
+        extra[0] = contact_forces(out[9], out[8], 1.0 / t, G, table, maps, linf, full,
+                                  spin_weight, forces, wrenches, resultant)
+    return (SHOT,) + pack(out, extra)

@@ -124,7 +124,7 @@ def lu_factor(M, n, lu, piv):
 
 @njit(cache=True, forceinline=True)
 def lu_solve(lu, piv, n, b, x):
-    """Solve M x = b from lu_factor(M)."""
+    """Solve M x = b from lu_factor(M); x may be b itself."""
     for i in range(n):
         x[i] = b[i]
     for k in range(n):

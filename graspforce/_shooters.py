@@ -200,7 +200,10 @@ def _invert(P, n, M, lu, piv, B, col):
         for i in range(n):
             col[i] = 0.0
         col[j] = 1.0
-        lu_solve(lu, piv, n, col, B[:, j])
+        # solved in place and copied: a column view B[:, j] costs more than the copy
+        lu_solve(lu, piv, n, col, col)
+        for i in range(n):
+            B[i, j] = col[i]
     return True
 
 

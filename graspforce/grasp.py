@@ -4,7 +4,7 @@ import math
 import numpy as np
 
 from . import _shooters as S
-from ._forces import extra_size, shoot_and_read_forces, unpack_forces
+from ._forces import BAD_WRENCH, ZERO_WRENCH, extra_size, shoot_and_read_forces
 from ._packed import HEAD
 from ._validate import check_choice, finite_vector
 from .contact import Contact
@@ -71,30 +71,35 @@ class Grasp:
         """
         space = self._space(norm, magnitude)
         code = METHODS[check_choice(method, METHODS, "method")]
-        w, ww = finite_vector(w_ext, "w_ext", 6)
         eps, max_iter = check_tolerances(eps, max_iter)
         W = space.set
-        if ww == 0.0:
-            return self._without_forces(space, "optimal", 0.0, method, None)
         ints, floats = W.program
-        res = shoot_and_read_forces(
-            ints, floats, w, W.witness_size, code, eps, max_iter, self.contact_matrices,
-            space.table, space.maps, norm == "Linf", magnitude == "full", space.spin_weight)
-        m = len(self.contacts)
-        head, packed = res[:HEAD], res[HEAD]
-        sigma, forces, wrenches, resultant = unpack_forces(packed, m)
-        ray = (W, w, head, packed, extra_size(m))
+        args = (ints, floats, w_ext, W.witness_size, code, eps, max_iter, self.contact_matrices,
+                space.table, space.maps, norm == "Linf", magnitude == "full", space.spin_weight)
+        try:
+            # the common call, a float64 (6,) array, goes straight to the compiled code, which
+            # also checks it; anything else fails the call (one compiled signature)
+            res = shoot_and_read_forces(*args)
+        except TypeError:
+            res = None
+        if res is None or res[0] == BAD_WRENCH:
+            # a new C-contiguous, writable float64 array: the type the compiled code takes
+            w_ext = np.array(finite_vector(w_ext, "w_ext", 6)[0])
+            res = shoot_and_read_forces(ints, floats, w_ext, *args[3:])
+        verdict, head, packed = res[0], res[1:1 + HEAD], res[1 + HEAD]
+        if verdict == ZERO_WRENCH:
+            return self._without_forces(space, "optimal", 0.0, method, None)
+        sigma = packed[0]
+        ray = (W, w_ext, head, packed, extra_size(len(self.contacts)))
         status = head[0]
         if status == S.MISS or (status == S.HIT and sigma == math.inf):
             # a separating hyperplane, or a ray that leaves W at the origin: no finite forces
             return self._without_forces(space, "infeasible", math.inf, method, ray)
         if sigma == math.inf:
             return self._without_forces(space, "max_iter", math.inf, method, ray)
-        return MinForce(
-            feasible=True, status="optimal" if status == S.HIT else "max_iter", sigma=sigma,
-            sigma_lower=1.0 / head[2], forces=forces, world_forces=wrenches[:, :3],
-            wrenches=wrenches, resultant=resultant, norm=norm, magnitude=magnitude,
-            method=method, iterations=head[4], support_calls=head[5], ray=ray)
+        return MinForce.from_packed("optimal" if status == S.HIT else "max_iter", float(sigma),
+                                    1.0 / head[2], norm, magnitude, method, ray,
+                                    len(self.contacts))
 
     def _without_forces(self, space, status, sigma, method, ray):
         """The record of a zero wrench (sigma 0), an infeasible one or an undecided one (inf)."""

@@ -5,6 +5,7 @@ from functools import cached_property
 
 import numpy as np
 
+from ._forces import force_views
 from ._packed import unpack
 
 
@@ -108,7 +109,6 @@ class ConeDistance:
     support_calls: int
 
 
-@dataclass
 class MinForce:
     """Minimal contact forces that resist an external wrench (section 5.1, eq. 11-15).
 
@@ -125,21 +125,59 @@ class MinForce:
     read off the witnesses of the final simplex Z_W(r), not re-solved. world_forces: (m, 3) the
     force vectors in the world frame; wrenches: (m, 6) G_i f_i; resultant: sum of the wrenches.
     Infinite sigma and zero forces when infeasible. `shot` is the underlying RayShot.
+    The force arrays of a ray-shooting answer are views of the one array the compiled code
+    returned (graspforce._packed), taken when first read; read-only.
     """
-    feasible: bool
-    status: str
-    sigma: float
-    sigma_lower: float
-    forces: np.ndarray
-    world_forces: np.ndarray
-    wrenches: np.ndarray
-    resultant: np.ndarray
-    norm: str
-    magnitude: str
-    method: str
-    iterations: int
-    support_calls: int
-    ray: tuple = field(repr=False)  # (W, w_ext, head, packed, extra) (graspforce._packed); or None
+
+    def __init__(self, feasible, status, sigma, sigma_lower, forces, world_forces, wrenches,
+                 resultant, norm, magnitude, method, iterations, support_calls, ray=None):
+        self.feasible, self.status, self.sigma, self.sigma_lower = (feasible, status, sigma,
+                                                                    sigma_lower)
+        self.norm, self.magnitude, self.method = norm, magnitude, method
+        self.iterations, self.support_calls = iterations, support_calls
+        # (W, w_ext, head, packed, extra) (graspforce._packed); None for a zero wrench or a
+        # baseline's answer
+        self.ray = ray
+        self._forces = (forces, world_forces, wrenches, resultant)
+
+    @classmethod
+    def from_packed(cls, status, sigma, sigma_lower, norm, magnitude, method, ray, m):
+        """The feasible answer of a ray shot whose packed array holds the forces of m contacts
+        (graspforce._forces); the arrays are read on first use."""
+        head = ray[2]
+        record = cls.__new__(cls)
+        record.feasible, record.status, record.sigma, record.sigma_lower = (True, status, sigma,
+                                                                            sigma_lower)
+        record.norm, record.magnitude, record.method = norm, magnitude, method
+        record.iterations, record.support_calls = head[4], head[5]
+        record.ray = ray
+        record._forces = None
+        record._contacts = m
+        return record
+
+    def _arrays(self):
+        if self._forces is None:
+            packed = self.ray[3]
+            packed.flags.writeable = False
+            forces, wrenches, resultant = force_views(packed, self._contacts)
+            self._forces = (forces, wrenches[:, :3], wrenches, resultant)
+        return self._forces
+
+    @property
+    def forces(self):
+        return self._arrays()[0]
+
+    @property
+    def world_forces(self):
+        return self._arrays()[1]
+
+    @property
+    def wrenches(self):
+        return self._arrays()[2]
+
+    @property
+    def resultant(self):
+        return self._arrays()[3]
 
     @cached_property
     def shot(self):
@@ -150,6 +188,12 @@ class MinForce:
         from .ray_shoot import make_ray_shot
         W, w_ext, head, packed, extra = self.ray
         return make_ray_shot(W, -w_ext, self.method, head, packed, extra)
+
+    def __repr__(self):
+        return (f"MinForce(feasible={self.feasible}, status={self.status!r}, "
+                f"sigma={self.sigma!r}, sigma_lower={self.sigma_lower!r}, norm={self.norm!r}, "
+                f"magnitude={self.magnitude!r}, method={self.method!r}, "
+                f"iterations={self.iterations})")
 
 
 @dataclass(frozen=True)

@@ -412,6 +412,32 @@ def test_min_force_bad_input_names_the_field(kwargs, field):
         asymmetric_grasp().min_force(**kwargs)
 
 
+def test_wrenches_of_any_type_and_layout_agree():
+    # the compiled call takes a C-contiguous float64 (6,) array; every other wrench is converted
+    # on the way, never a new compilation and never a different answer
+    grasp = asymmetric_grasp()
+    w = np.array([0.3, -1.0, 2.0, 0.05, -0.1, 0.02])
+    ref = grasp.min_force(w)
+    frozen = w.copy()
+    frozen.flags.writeable = False
+    for same in (w.tolist(), tuple(w), frozen, np.repeat(w, 2)[::2], w.reshape(1, 6)[0]):
+        res = grasp.min_force(same)
+        assert res.sigma == ref.sigma and np.array_equal(res.forces, ref.forces)
+    assert grasp.min_force(np.array([0, 0, 1, 0, 0, 0])).sigma == \
+        grasp.min_force(np.array([0.0, 0, 1, 0, 0, 0])).sigma
+    from graspforce._forces import shoot_and_read_forces
+    assert len(shoot_and_read_forces.signatures) == 1
+    with pytest.raises(ValueError, match="w_ext"), np.errstate(over="ignore"):
+        grasp.min_force(np.full(6, 1e200))                  # x.x overflows
+
+
+def test_min_force_arrays_are_read_only_views():
+    res = asymmetric_grasp().min_force(np.array([0.3, -1.0, 2.0, 0.05, -0.1, 0.02]))
+    assert np.array_equal(res.world_forces, res.wrenches[:, :3])
+    with pytest.raises(ValueError):
+        res.forces[0, 0] = 1.0
+
+
 def test_grasp_bad_input():
     c = gf.Contact([0, 0, 0], [0, 0, 1], 0.5)
     with pytest.raises(TypeError, match="contacts"):
