@@ -10,7 +10,8 @@ Pairs (benchmarks/growth_sets.py): an ellipsoid touching a truncated cone throug
 rim or a base face, at random sizes and poses (truth 1), and the same shrunk or enlarged by 2 about
 their reference points (truth 2, 0.5). For each pair `gf.GrowthDistance(E, C, method, eps,
 warm_start=False)` is built once (Delta compiled), called once untimed, then timed on its own
-call (time.perf_counter_ns, garbage collector off). "random": every pair among random ellipsoids
+calls (time.perf_counter_ns, garbage collector off) in REPEATS = 3 passes over all pairs, keeping
+each query's least (the machine's speed drifts over seconds). Clarabel's times are single solves. "random": every pair among random ellipsoids
 and truncated cones (no truth; the methods are compared with each other and with Clarabel).
 Baseline: Clarabel on the convex program min sigma s.t. a point lies in A(sigma) and B(sigma)
 (the truncated cone as the convex hull of its two scaled disks), built and solved per pair.
@@ -27,7 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from benchmarks.growth_sets import SCALES, protocol_pairs, random_shapes, scaled_shapes
-from benchmarks.ray_shoot import PAPER_TABLES, _cpu_name
+from benchmarks.ray_shoot import PAPER_TABLES, REPEATS, _cpu_name, _timed_pass
 
 METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie")
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -41,13 +42,18 @@ def make_shape(kind, data):
 
 
 def timed_query(solver, pose_a, pose_b):
+    """(ns, result): the least of REPEATS timings of one query (the machine's speed drifts),
+    after an untimed warm-up call."""
     solver(pose_a, pose_b)                       # warm-up: first call, cold caches
     gc_on = gc.isenabled()
     gc.disable()
     try:
-        t0 = time.perf_counter_ns()
-        res = solver(pose_a, pose_b)
-        dt = time.perf_counter_ns() - t0
+        dt = None
+        for _ in range(REPEATS):
+            t0 = time.perf_counter_ns()
+            res = solver(pose_a, pose_b)
+            elapsed = time.perf_counter_ns() - t0
+            dt = elapsed if dt is None else min(dt, elapsed)
     finally:
         if gc_on:
             gc.enable()
@@ -111,20 +117,24 @@ def clarabel_growth(kind_a, data_a, R_a, p_a, kind_b, data_b, R_b, p_b):
     return sol.x[0], time.perf_counter_ns() - t0
 
 
+def _query(query):
+    solver, pose_a, pose_b = query
+    return solver(pose_a, pose_b)
+
+
 def protocol_rows(pairs, eps, methods, log):
     import graspforce as gf
     rows = {}
     for case, (scale, truth) in SCALES.items():
         shapes = [scaled_shapes(p, scale) for p in pairs]
         for method in methods:
-            times, errors, iters = [], [], []
-            for p, (axes, cone) in zip(pairs, shapes):
-                solver = gf.GrowthDistance(make_shape("ellipsoid", axes), make_shape("cone", cone),
-                                           method, eps, warm_start=False)
-                dt, res = timed_query(solver, (p["R_e"], p["p_e"]), (p["R_c"], p["p_c"]))
-                times.append(dt)
-                errors.append(abs(res.sigma - truth))
-                iters.append(res.iterations)
+            queries = [(gf.GrowthDistance(make_shape("ellipsoid", axes), make_shape("cone", cone),
+                                          method, eps, warm_start=False),
+                        (p["R_e"], p["p_e"]), (p["R_c"], p["p_c"]))
+                       for p, (axes, cone) in zip(pairs, shapes)]
+            times, results = _timed_pass(_query, queries)
+            errors = [abs(res.sigma - truth) for res in results]
+            iters = [res.iterations for res in results]
             rows[(case, method)] = {"median_us": np.median(times) / 1e3,
                                     "mean_us": np.mean(times) / 1e3,
                                     "mean_err": np.mean(errors), "max_err": np.max(errors),
@@ -149,13 +159,11 @@ def random_rows(shapes, eps, methods, log):
     pairs = [(i, j) for i in range(len(shapes)) for j in range(i + 1, len(shapes))]
     rows, sigmas = {}, {}
     for method in methods:
-        times, iters, values = [], [], []
-        for i, j in pairs:
-            solver = gf.GrowthDistance(objects[i], objects[j], method, eps, warm_start=False)
-            dt, res = timed_query(solver, shapes[i][2:], shapes[j][2:])
-            times.append(dt)
-            iters.append(res.iterations)
-            values.append(res.sigma)
+        queries = [(gf.GrowthDistance(objects[i], objects[j], method, eps, warm_start=False),
+                    shapes[i][2:], shapes[j][2:]) for i, j in pairs]
+        times, results = _timed_pass(_query, queries)
+        iters = [res.iterations for res in results]
+        values = [res.sigma for res in results]
         sigmas[method] = np.array(values)
         rows[method] = {"median_us": np.median(times) / 1e3, "mean_us": np.mean(times) / 1e3,
                         "mean_iters": np.mean(iters)}

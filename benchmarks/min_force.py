@@ -15,7 +15,7 @@ Python, forces read off the final simplex included). Baselines (graspforce.basel
 - a linearized friction pyramid (8 faces) solved through qpsolvers with OSQP and with Clarabel, as
   users usually call them (normal magnitude only).
 Each call is timed on its own with time.perf_counter_ns after an untimed warm-up pass (garbage
-collector off). Accuracy: every sigma against the prepared SOCP solved with tight tolerances
+collector off), in three passes; a call's time is its least (benchmarks.ray_shoot.REPEATS). Accuracy: every sigma against the prepared SOCP solved with tight tolerances
 (relative), plus checks that need no solver: our bracket (sigma / sigma_lower - 1 <= eps), the
 equilibrium residual |sum_i G_i f_i + w_ext| / |w_ext|, and the forces' distance outside their cones.
 """
