@@ -15,7 +15,6 @@ _matvec 8%, lu_solve 7%, lstsq 7%, _keep 5%, _pivot 5%, _matvec_t_ones 4%.
 import os
 import sys
 
-import numpy as np
 from numba import njit
 
 from benchmarks.grasp_sets import ingot_grasp_sets, random_wrenches

@@ -25,8 +25,6 @@ n^T z = h_Delta(n) = h_{R_A A_0}(n) + h_{R_B B_0}(-n), and since n^T a <= h_{R_A
 B(sigma) in {x : n^T x >= n^T point_b}. So n, normalized, is the contact normal from A to B
 (exact for the returned hyperplane; z is within eps of the plane, so these hold to eps).
 """
-import math
-
 import numpy as np
 
 from ._kernel import children, param_start
