@@ -80,7 +80,8 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, f
 
 
 _VECTOR = types.float64[::1]
-_SIGNATURE = (types.int64[::1], _VECTOR, _VECTOR, types.int64, types.int64, types.float64,
+# the one signature of `shoot_and_read_forces` (graspforce._signature)
+SIGNATURE = (types.int64[::1], _VECTOR, _VECTOR, types.int64, types.int64, types.float64,
               types.int64, types.float64[:, :, ::1], types.int64[:, ::1], _VECTOR,
               types.boolean, types.boolean, _VECTOR)
 
@@ -90,12 +91,13 @@ ZERO_WRENCH = 1       # w_ext = 0: no force needed, sigma = 0
 BAD_WRENCH = 2        # not 6 entries, or not finite
 
 
-@njit(_SIGNATURE, cache=True)
+@njit(cache=True)
 def shoot_and_read_forces(ints, floats, w_ext, ws, method, eps, max_iter, G, table, maps, linf,
                           full, spin_weight):
     """One compiled call per min_force: z = t r on W by `method` (r = -w_ext), then the forces
-    read off Z_W(r). Compiled for one signature, so that a wrench of another type fails the call
-    with a TypeError (the caller converts it and calls again) instead of compiling anew.
+    read off Z_W(r). Compiled for one signature (graspforce._signature), so that a wrench of
+    another type fails the call with a TypeError (the caller converts it and calls again)
+    instead of compiling anew.
 
     Returns (verdict, status, t, t_upper, h_n, iterations, support_calls, singular_steps,
     packed): verdict SHOT with the packed ray-shooting result (graspforce._packed) whose extra

@@ -3,9 +3,9 @@
 Python's share of a query is then one call and the result record: writing the rotations into the
 program with numpy slices, forming r, checking the poses and deciding the verdict in numpy cost
 more than the shooter itself on small shapes (measured: 5 us of 20). The query is compiled for
-one signature, so that a pose of another type (a list, float32, a non-contiguous view) fails
-the call with a TypeError instead of compiling a new specialization for minutes; the Python
-side then converts it and calls again (graspforce.growth).
+one signature (graspforce._signature), so that a pose of another type (a list, float32, a
+non-contiguous view) fails the call with a TypeError instead of compiling a new specialization
+for minutes; the Python side then converts it and calls again (graspforce.growth).
 """
 import numpy as np
 from numba import njit, types
@@ -42,7 +42,8 @@ POSES = 24
 FRAME = POSES + HEAD
 
 _VECTOR = types.float64[::1]
-_SIGNATURE = (types.int64[::1], _VECTOR, types.int64, types.int64, types.int64,
+# the one signature of `query` (graspforce._signature)
+SIGNATURE = (types.int64[::1], _VECTOR, types.int64, types.int64, types.int64,
               types.float64[:, ::1], _VECTOR, types.float64[:, ::1], _VECTOR, types.int64,
               types.float64, types.int64, types.boolean, _VECTOR, types.float64, types.float64)
 
@@ -66,7 +67,7 @@ def _proper(R, p):
     return det > 0.0
 
 
-@njit(_SIGNATURE, cache=True)
+@njit(cache=True)
 def query(ints, floats, ma, mb, ws, R_a, p_a, R_b, p_b, method, eps, max_iter, warm, normal,
           spread, touching_tol):
     """(code, verdict, sigma, sigma_lower, sigma_upper, iterations, support_calls, next_spread,

@@ -4,8 +4,9 @@ import math
 import numpy as np
 
 from . import _shooters as S
-from ._forces import BAD_WRENCH, ZERO_WRENCH, extra_size, shoot_and_read_forces
+from ._forces import BAD_WRENCH, SIGNATURE, ZERO_WRENCH, extra_size, shoot_and_read_forces
 from ._packed import HEAD
+from ._signature import one_signature
 from ._validate import check_choice, finite_vector
 from .contact import Contact
 from .quality import facet_expansion, grasp_quality
@@ -56,6 +57,7 @@ class Grasp:
             check_choice(norm, NORMS, "norm")
             check_choice(magnitude, MAGNITUDES, "magnitude")
             space = self._spaces[(norm, magnitude)] = WrenchSpace(self.contacts, norm, magnitude)
+            one_signature(shoot_and_read_forces, SIGNATURE)
         return space
 
     def min_force(self, w_ext, norm="L1", magnitude="normal", method="zc-ie", eps=1e-9,

@@ -29,8 +29,9 @@ import numpy as np
 
 from ._kernel import children, param_start
 from ._packed import normal_of
+from ._signature import one_signature
 from ._growth import (BAD_POSE_A, COINCIDENT, FRAME, NOT_CERTIFIED, OK, PENETRATING, POSES,
-                      SEPARATED, TOUCHING, query)
+                      SEPARATED, SIGNATURE, TOUCHING, query)
 from ._validate import check_choice, finite_array
 from .quality import facet_expansion
 from .ray_shoot import METHODS, check_tolerances, make_ray_shot
@@ -101,6 +102,7 @@ class GrowthDistance:
         self._ws = self.delta.witness_size
         self._leaves_a = len(A.leaves())
         self.warm_start = bool(warm_start) and method == "zc-ie"
+        one_signature(query, SIGNATURE)
         self._normal = _NO_NORMAL
         self._warm = False
         self._spread = WARM_SPREAD
