@@ -48,7 +48,8 @@ def check_choice(value, allowed, name):
 def finite_vector(value, name, n):
     """(x, x.x) for a finite float vector of n entries. An exact float64 (n,) array costs one dot
     product (~0.3 us): x.x is NaN or inf iff an entry is, so the slow checks run only to name
-    the rule. Hot entry points (ray_shoot, min_force) call this once per call."""
+    the rule. ray_shoot calls this once per call; min_force only for a wrench its compiled call
+    refused."""
     x = value
     if not (type(x) is np.ndarray and x.dtype == np.float64 and x.shape == (n,)):
         x = finite_array(value, name, ndim=1)
