@@ -4,14 +4,16 @@ IE (section 3.2) queries the support map in the normal of the facet the ray cros
 plane step: its facet shrinks by about half a step on curved contacts, so a query at eps = 1e-9
 takes 26-36 support calls (issue 4, BENCHMARKS.md). This script counts the calls of other rules on
 the same pairs, to show which change could cut them. It is not timed: the shooter here is plain
-numpy around `Delta.support`, and only the number of support calls is compared.
+numpy around `Delta.support_witness`, and only the number of support calls is compared.
 
     python -m benchmarks.query_rules              # 150 pairs (50 per contact case)
     python -m benchmarks.query_rules --n 30
 
 Every rule keeps IE's invariant and certificate: n support points whose facet the ray crosses
 (lower bound t, the crossing) and the best h_Delta(u) / u^T r over the queried normals (upper
-bound); it stops when the two are within eps relative. Each starts from the same facet: support
+bound); it stops when the two are within eps relative. A facet the ray misses by rounding, or
+one whose points crowd (condition number above MAX_CONDITION, as the model's points do), is
+given up for the previous one and its normal. Each starts from the same facet: support
 points in n directions spread around r (widened until the ray crosses their facet). The rules:
 
 - facet: query the facet's normal (the paper's IE).
@@ -23,6 +25,10 @@ points in n directions spread around r (widened until the ray crosses their face
   point does not lie beyond the facet (which moves only the upper bound).
 - model-until-miss: the model, until its first query whose point does not lie beyond the
   facet; the facet normal from then on.
+- model-on-smooth: the model only when the last three support points come from one smooth piece
+  of Delta: in every leaf of Delta's program, their leaf-local points (the witnesses) lie within
+  SAME_PIECE of each other, relative to their size. Points on the two rims of a cone's side, or
+  around a base disk's rim, differ: the facet normal there.
 
 The truth of a contact pair is g = 1 (t = 1): the error column checks every rule.
 """
@@ -32,16 +38,18 @@ import numpy as np
 
 from benchmarks.growth_sets import CASES, protocol_pairs
 
-RULES = ("facet", "pool", "model", "model-until-miss")
+RULES = ("facet", "pool", "model", "model-until-miss", "model-on-smooth")
 EPS = 1e-9
 MAX_CALLS = 300
 MODEL_POINTS = 3
 MODEL_START = 3      # facet steps before the first model query: the model needs close points
 MAX_CONDITION = 1e7  # the model's points can crowd: keep the facet's crossing exact to ~1e-9
+SAME_PIECE = 0.2     # leaf-local points this close (relative) are taken as one smooth piece
 
 
 def probe_facet(support, r):
-    """n support points in directions around r whose facet the ray crosses, with the directions."""
+    """n support points in directions around r whose facet the ray crosses, with the directions
+    and the points' leaf-local witnesses."""
     n = r.shape[0]
     rhat = r / np.linalg.norm(r)
     # a regular simplex centred at 0 in the plane orthogonal to r: the rows of I - 1/n live in
@@ -53,9 +61,10 @@ def probe_facet(support, r):
     for _ in range(30):
         U = rhat + spread * simplex
         U /= np.linalg.norm(U, axis=1)[:, None]
-        P = np.array([support(u)[1] for u in U])
+        out = [support(u) for u in U]
+        P = np.array([point for _, point, _ in out])
         if np.linalg.matrix_rank(P) == n and np.linalg.solve(P.T, r).min() > 0.0:
-            return P, U
+            return P, U, [piece for _, _, piece in out]
         spread *= 2.0
     raise RuntimeError("no probe facet crosses the ray: is the origin interior to the set?")
 
@@ -92,6 +101,23 @@ def model_normal(points, normals, z, r, e3):
     return u / np.linalg.norm(u)
 
 
+def one_piece(pieces):
+    """Whether the leaf-local points of these support points agree leaf by leaf."""
+    for locals_ in zip(*pieces):
+        size = max(np.linalg.norm(x) for x in locals_) + 1e-300
+        if max(np.linalg.norm(a - b) for a in locals_ for b in locals_) > SAME_PIECE * size:
+            return False
+    return True
+
+
+def witness_support(X):
+    """u -> (h_X(u), s_X(u), the leaf-local points of s_X(u), leaf by leaf)."""
+    def support(u):
+        h, point, witness = X.support_witness(u)
+        return h, point, [np.asarray(local, dtype=float) for _, local in witness]
+    return support
+
+
 def ratio_test(B, gam, s):
     """The vertex s replaces so that the ray still crosses the facet (B: the facet's inverse)."""
     alpha = B @ s
@@ -102,7 +128,7 @@ def ratio_test(B, gam, s):
 def shoot(support, r, rule):
     """(support calls, t, t_upper) of IE with the given query rule."""
     n = r.shape[0]
-    P, U = probe_facet(support, r)
+    P, U, pieces = probe_facet(support, r)
     calls = n
     points, normals = list(P), list(U)
     t_up = np.inf
@@ -122,16 +148,18 @@ def shoot(support, r, rule):
         previous = P.copy()
         t = 1.0 / (y @ r)
         u = y / np.linalg.norm(y)
-        if model_on and step >= MODEL_START and not missed:
+        smooth = rule != "model-on-smooth" or one_piece(pieces[-MODEL_POINTS:])
+        if model_on and step >= MODEL_START and not missed and smooth:
             m = model_normal(points[-MODEL_POINTS:], normals[-MODEL_POINTS:], t * r, r, u)
             u = m if m is not None and m @ r > 0.0 else u
-        h, s = support(u)
+        h, s, piece = support(u)
         calls += 1
         t_up = min(t_up, h / (u @ r))
         if t_up - t <= EPS * t:
             break
         points.append(s)
         normals.append(u)
+        pieces.append(piece)
         missed = y @ s <= 1.0 + 1e-12
         if missed:
             # not beyond the facet: only the upper bound moved
@@ -159,7 +187,7 @@ def run(n_pairs=150, seed=0, log=print):
         C = gf.TruncatedCone(pair["rb"], pair["rt"], pair["h"])
         # Delta = R_A(A) - R_C(C) at the pair's poses, and r from A's origin to C's
         delta = gf.minkowski_sum(gf.affine(pair["R_e"], A), gf.affine(-pair["R_c"], C))
-        queries.append((pair["case"], delta.support, pair["p_c"] - pair["p_e"]))
+        queries.append((pair["case"], witness_support(delta), pair["p_c"] - pair["p_e"]))
     log("| rule | " + " | ".join(f"{c}: mean / median / max calls" for c in CASES)
         + " | max abs error of g |")
     log("|---|" + "---|" * len(CASES) + "---|")
@@ -171,7 +199,7 @@ def run(n_pairs=150, seed=0, log=print):
             calls[case].append(k)
             err = max(err, abs(1.0 / t - 1.0), abs(1.0 / t_up - 1.0))
         cells = [f"{np.mean(v):.1f} / {np.median(v):.0f} / {max(v)}" for v in calls.values()]
-        log(f"| {rule} | " + " | ".join(cells) + f" | {err:.1e} |")
+        log(f"| {rule} | " + " | ".join(cells) + f" | {err:.2e} |")
 
 
 def main(argv=None):
