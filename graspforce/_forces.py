@@ -6,6 +6,7 @@ from numba.extending import register_jitable
 from ._dispatch import shoot
 from ._packed import pack
 from ._shooters import MISS
+from ._signature import INTS, VECTOR
 
 # rows of a wrench space's leaf table (graspforce.wrench_space.WrenchSpace.table)
 CONTACT, SLOT, SIZE, MAP = 0, 1, 2, 3
@@ -79,11 +80,10 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, f
     return sigma
 
 
-_VECTOR = types.float64[::1]
 # the one signature of `shoot_and_read_forces` (graspforce._signature)
-SIGNATURE = (types.int64[::1], _VECTOR, _VECTOR, types.int64, types.int64, types.float64,
-              types.int64, types.float64[:, :, ::1], types.int64[:, ::1], _VECTOR,
-              types.boolean, types.boolean, _VECTOR)
+SIGNATURE = (INTS, VECTOR, VECTOR, types.int64, types.int64, types.float64,
+              types.int64, types.float64[:, :, ::1], types.int64[:, ::1], VECTOR,
+              types.boolean, types.boolean, VECTOR)
 
 # what shoot_and_read_forces says of w_ext before any shot
 SHOT = 0

@@ -13,6 +13,7 @@ from numba import njit, types
 from ._dispatch import shoot
 from ._packed import HEAD, pack
 from ._shooters import HIT
+from ._signature import INTS, VECTOR
 from ._warm import shoot_warm
 
 OK = 0
@@ -41,11 +42,10 @@ SPREAD_MAX = 0.2
 POSES = 24
 FRAME = POSES + HEAD
 
-_VECTOR = types.float64[::1]
 # the one signature of `query` (graspforce._signature)
-SIGNATURE = (types.int64[::1], _VECTOR, types.int64, types.int64, types.int64,
-              types.float64[:, ::1], _VECTOR, types.float64[:, ::1], _VECTOR, types.int64,
-              types.float64, types.int64, types.boolean, _VECTOR, types.float64, types.float64)
+SIGNATURE = (INTS, VECTOR, types.int64, types.int64, types.int64,
+              types.float64[:, ::1], VECTOR, types.float64[:, ::1], VECTOR, types.int64,
+              types.float64, types.int64, types.boolean, VECTOR, types.float64, types.float64)
 
 @njit(cache=True)
 def _proper(R, p):

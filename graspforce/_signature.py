@@ -1,4 +1,9 @@
 """Compiled entry points with one signature, compiled on first use."""
+from numba import types
+
+# the types the signatures spell: a C-contiguous float64 vector, and an int64 one (programs)
+VECTOR = types.float64[::1]
+INTS = types.int64[::1]
 
 
 def one_signature(dispatcher, signature):

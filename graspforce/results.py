@@ -109,6 +109,11 @@ class ConeDistance:
     support_calls: int
 
 
+def _force_array(index, doc):
+    """A MinForce array, read from the packed answer on first access."""
+    return property(lambda record: record._arrays()[index], doc=doc)
+
+
 class MinForce:
     """Minimal contact forces that resist an external wrench (section 5.1, eq. 11-15).
 
@@ -163,21 +168,10 @@ class MinForce:
             self._forces = (forces, wrenches[:, :3], wrenches, resultant)
         return self._forces
 
-    @property
-    def forces(self):
-        return self._arrays()[0]
-
-    @property
-    def world_forces(self):
-        return self._arrays()[1]
-
-    @property
-    def wrenches(self):
-        return self._arrays()[2]
-
-    @property
-    def resultant(self):
-        return self._arrays()[3]
+    forces = _force_array(0, "(m, 4) local (normal force, two tangential forces, spin moment)")
+    world_forces = _force_array(1, "(m, 3) the contact forces in the world frame")
+    wrenches = _force_array(2, "(m, 6) each contact's wrench G_i f_i (eq. 11)")
+    resultant = _force_array(3, "(6,) the sum of the contacts' wrenches, -w_ext")
 
     @cached_property
     def shot(self):
