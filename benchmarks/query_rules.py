@@ -163,7 +163,7 @@ def shoot(support, r, rule):
         missed = y @ s <= 1.0 + 1e-12
         if missed:
             # not beyond the facet: only the upper bound moved
-            model_on = model_on and rule == "model"
+            model_on = model_on and rule != "model-until-miss"
             continue
         P[ratio_test(B, gam, s)] = s
         # pool: the point farthest beyond the new facet re-enters, and so on (a bounded number
