@@ -27,11 +27,11 @@ B(sigma) in {x : n^T x >= n^T point_b}. So n, normalized, is the contact normal 
 """
 import numpy as np
 
+from ._growth import (BAD_POSE_A, COINCIDENT, FRAME, NOT_CERTIFIED, OK, PENETRATING, POSES,
+                      SEPARATED, SIGNATURE, TOUCHING, query)
 from ._kernel import children, param_start
 from ._packed import normal_of
 from ._signature import one_signature
-from ._growth import (BAD_POSE_A, COINCIDENT, FRAME, NOT_CERTIFIED, OK, PENETRATING, POSES,
-                      SEPARATED, SIGNATURE, TOUCHING, query)
 from ._validate import check_choice, finite_array
 from .quality import facet_expansion
 from .ray_shoot import METHODS, check_tolerances, make_ray_shot
