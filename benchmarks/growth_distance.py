@@ -243,15 +243,15 @@ def time_split(pairs, eps, method="zc-ie"):
         dt, res = timed_query(g, pa, pb)
         full.append(dt)
         calls.append(res.support_calls)
-        args = (g._ints, g._floats, g._ma, g._mb, g._ws, *pa, *pb, g._code, eps, g.max_iter,
-                False, np.zeros(3), 0.05, g.touching_tol)
+        args = (g._ints, g._floats, g._setup, g._state, *pa, *pb, np.empty(g._size))
         query(*args)
         t0 = time.perf_counter_ns()
         query(*args)
         compiled.append(time.perf_counter_ns() - t0)
-        support_loop(g._ints, g._floats, U, g._ws)
+        ws = g.delta.witness_size
+        support_loop(g._ints, g._floats, U, ws)
         t0 = time.perf_counter_ns()
-        support_loop(g._ints, g._floats, U, g._ws)
+        support_loop(g._ints, g._floats, U, ws)
         per_call.append((time.perf_counter_ns() - t0) / len(U))
     return {"full_us": np.median(full) / 1e3, "compiled_us": np.median(compiled) / 1e3,
             "calls": np.mean(calls), "support_us": np.mean(calls) * np.median(per_call) / 1e3,

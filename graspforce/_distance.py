@@ -24,22 +24,24 @@ ROUNDING = 1e-13   # about 500 unit roundoffs
 
 @njit(cache=True)
 def scratch(n):
-    """Work arrays of the active-set subproblem."""
+    """Work arrays of the active-set subproblem (D, work, rhs, wrhs, x): allocated once by each
+    shooter and passed to every GJK / ZC call, so that the calls of one shot allocate nothing."""
     return (np.empty((n, n + 1)), np.empty((n, n + 1)), np.empty(n), np.empty(n),
             np.empty(n + 2))
 
 
 @njit(cache=True)
 def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_iter, nvec, v,
-        point, wit):
+        point, wit, sc):
     """GJK (section 2.2): d_A(b) and v_A(b) from the simplex P[:k] (k = 0: cold start).
 
     Stops when h_A(n_k) - n_k^T v_k <= eps_abs + eps_rel * ref, ref = |n_k^T v_k| (the offset of
     the hyperplane H(n_k, v_k), as the ray shooters need) or d (relative distance error).
     Returns (status, k, d, h_A(n_k), iterations, support_calls); n_k in nvec, v_k in v.
+    sc: the work arrays of `scratch(n)`.
     """
     n = b.shape[0]
-    D, work, rhs, wrhs, x = scratch(n)
+    D, work, rhs, wrhs, x = sc
     calls = 0
     if k == 0:
         for i in range(n):
@@ -84,15 +86,16 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
 
 @njit(cache=True)
 def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, nvec, v, point,
-       wit):
+       wit, sc):
     """ZC (section 2.3): distance from `target` to CO(A - shift) with generators P[:k] - shift.
 
     Stops (CONVERGED) when h_{A-shift}(n_k) <= eps_abs + eps_rel * n_k^T shift; INSIDE when the
     target is a positive combination lam[:k] of P[:k] - shift. Returns (status, k, d,
-    h_{A-shift}(n_k), iterations, support_calls); n_k in nvec, v_CO in v.
+    h_{A-shift}(n_k), iterations, support_calls); n_k in nvec, v_CO in v. sc: the work
+    arrays of `scratch(n)`.
     """
     n = target.shape[0]
-    D, work, rhs, wrhs, x = scratch(n)
+    D, work, rhs, wrhs, x = sc
     calls = 0
     tnorm = np.sqrt(dot(target, target))
     if k == 0:

@@ -2,7 +2,7 @@
 import numpy as np
 from numba import njit
 
-from ._distance import gjk, zc
+from ._distance import gjk, scratch, zc
 from ._linalg import dot
 
 
@@ -17,7 +17,7 @@ def closest_point(ints, floats, b, ws, eps, max_iter):
     point = np.empty(n)
     wit = np.empty(ws)
     st, k, d, h, it, calls = gjk(ints, floats, b, P, Wt, lam, 0, eps, 0.0, False, max_iter,
-                                 nvec, v, point, wit)
+                                 nvec, v, point, wit, scratch(n))
     gap = h - dot(nvec, v) if st != 1 else 0.0
     return st, d, gap, it, calls, v.copy(), P[:k].copy(), lam[:k].copy(), Wt[:k].copy()
 
@@ -33,7 +33,7 @@ def cone_distance(ints, floats, b, ws, eps, max_iter):
     point = np.empty(n)
     wit = np.empty(ws)
     st, k, d, h, it, calls = zc(ints, floats, np.zeros(n), b, P, Wt, lam, 0, 0.0, eps,
-                                max_iter, nvec, v, point, wit)
+                                max_iter, nvec, v, point, wit, scratch(n))
     if st == 1:
         nvec[:] = 0.0
     return st, d, h, it, calls, v.copy(), nvec.copy(), P[:k].copy(), lam[:k].copy(), Wt[:k].copy()

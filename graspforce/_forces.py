@@ -83,7 +83,7 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, f
 # the one signature of `shoot_and_read_forces` (graspforce._signature)
 SIGNATURE = (INTS, VECTOR, VECTOR, types.int64, types.int64, types.float64,
               types.int64, types.float64[:, :, ::1], types.int64[:, ::1], VECTOR,
-              types.boolean, types.boolean, VECTOR)
+              types.boolean, types.boolean, VECTOR, VECTOR)
 
 # what shoot_and_read_forces says of w_ext before any shot
 SHOT = 0
@@ -93,26 +93,27 @@ BAD_WRENCH = 2        # not 6 entries, or not finite
 
 @njit(cache=True)
 def shoot_and_read_forces(ints, floats, w_ext, ws, method, eps, max_iter, G, table, maps, linf,
-                          full, spin_weight):
+                          full, spin_weight, packed):
     """One compiled call per min_force: z = t r on W by `method` (r = -w_ext), then the forces
     read off Z_W(r). Compiled for one signature (graspforce._signature), so that a wrench of
     another type fails the call with a TypeError (the caller converts it and calls again)
     instead of compiling anew.
 
-    Returns (verdict, status, t, t_upper, h_n, iterations, support_calls, singular_steps,
-    packed): verdict SHOT with the packed ray-shooting result (graspforce._packed) whose extra
-    entries are [sigma, forces (m, 4), wrenches (m, 6), resultant (6,)] (`force_views`); zero
-    forces and sigma = inf when the ray misses W or leaves it at the origin (to rounding). Or
-    verdict ZERO_WRENCH or BAD_WRENCH and no shot.
+    Returns (verdict, status, t, t_upper, h_n, iterations, support_calls, singular_steps, k):
+    verdict SHOT with the head of the shot (graspforce._packed), whose arrays go to `packed`
+    (extra_size(m) + capacity(6, ws) entries) after the extra entries [sigma, forces (m, 4),
+    wrenches (m, 6), resultant (6,)] (`force_views`); zero forces and sigma = inf when the ray
+    misses W or leaves it at the origin (to rounding). Or verdict ZERO_WRENCH or BAD_WRENCH and
+    no shot.
     """
     ww = 0.0
     for a in range(w_ext.shape[0]):
         ww += w_ext[a] * w_ext[a]
     # x.x is NaN or inf iff an entry is (or the squares overflow)
     if w_ext.shape[0] != 6 or not np.isfinite(ww):
-        return BAD_WRENCH, 0, 0.0, 0.0, 0.0, 0, 0, 0, np.empty(0)
+        return BAD_WRENCH, 0, 0.0, 0.0, 0.0, 0, 0, 0, 0
     if ww == 0.0:
-        return ZERO_WRENCH, 0, 0.0, 0.0, 0.0, 0, 0, 0, np.empty(0)
+        return ZERO_WRENCH, 0, 0.0, 0.0, 0.0, 0, 0, 0, 0
     r = -w_ext
     out = shoot(ints, floats, r, ws, method, eps, max_iter)
     t = out[1]
@@ -122,14 +123,16 @@ def shoot_and_read_forces(ints, floats, w_ext, ws, method, eps, max_iter, G, tab
     for k in range(V.shape[0]):
         for a in range(V.shape[1]):
             size = max(size, abs(V[k, a]))
-    extra = np.zeros(extra_size(m))
+    e = extra_size(m)
+    for a in range(e):
+        packed[a] = 0.0
     # a point of W at t r with |t r| at the rounding of W's size is the origin: an Linf set
     # contains 0, and a ray that leaves W there has no finite forces (the witnesses' forces,
     # scaled by 1/t, would be rounding blown up)
     if out[0] == MISS or not t * np.sqrt(ww) > ORIGIN_FLOOR * size:
-        extra[0] = np.inf
+        packed[0] = np.inf
     else:
-        forces, wrenches, resultant = force_views(extra, m)
-        extra[0] = contact_forces(out[9], out[8], 1.0 / t, G, table, maps, linf, full,
-                                  spin_weight, forces, wrenches, resultant)
-    return (SHOT,) + pack(out, extra)
+        forces, wrenches, resultant = force_views(packed, m)
+        packed[0] = contact_forces(out[9], out[8], 1.0 / t, G, table, maps, linf, full,
+                                   spin_weight, forces, wrenches, resultant)
+    return (SHOT,) + pack(out, packed, e)

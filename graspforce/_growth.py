@@ -5,7 +5,11 @@ program with numpy slices, forming r, checking the poses and deciding the verdic
 more than the shooter itself on small shapes (measured: 5 us of 20). The query is compiled for
 one signature (graspforce._signature), so that a pose of another type (a list, float32, a
 non-contiguous view) fails the call with a TypeError instead of compiling a new specialization
-for minutes; the Python side then converts it and calls again (graspforce.growth).
+for minutes; the Python side then converts it and calls again (graspforce.growth). Its
+arguments are arrays only, the solver's constants and warm-start memory among them (`setup`,
+`state`), and it fills an array the caller allocated: each scalar argument and each returned
+array costs the call from Python (measured: 16 arguments and a returned array 1.6 us, these nine
+arrays 0.8 us).
 """
 import numpy as np
 from numba import njit, types
@@ -36,16 +40,23 @@ SPREAD_GAIN = 4.0
 SPREAD_MIN = 1e-3
 SPREAD_MAX = 0.2
 
-# the query's frame [R_A (9), p_A, R_B (9), p_B, status, t, t_upper, h_n, iterations,
-# support_calls, singular_steps]: the entries ahead of the packed ray-shooting arrays
-# (graspforce._packed); the last seven are the shooter's scalars (_packed.HEAD)
+# the query's frame [R_A (9), p_A, R_B (9), p_B, the shooter's head (graspforce._packed.HEAD)]:
+# the entries ahead of the packed ray-shooting arrays
 POSES = 24
 FRAME = POSES + HEAD
 
+# setup (int64): the program's two rotation offsets, the witness size, the method, max_iter,
+# whether to warm-start; state (float64): eps, touching_tol, then the warm start's memory
+# (whether the last call was certified, the spread for the next one, the last normal)
+MA, MB, WS, METHOD, MAX_ITER, WARM_START = range(6)
+EPS, TOUCHING_TOL, WARM, SPREAD, NORMAL = range(5)
+STATE_SIZE = NORMAL + 3
+WARM_SPREAD = 0.05     # first warm start: probes at the last normal +- this (a unit vector's tilt)
+
 # the one signature of `query` (graspforce._signature)
-SIGNATURE = (INTS, VECTOR, types.int64, types.int64, types.int64,
-              types.float64[:, ::1], VECTOR, types.float64[:, ::1], VECTOR, types.int64,
-              types.float64, types.int64, types.boolean, VECTOR, types.float64, types.float64)
+SIGNATURE = (INTS, VECTOR, INTS, VECTOR, types.float64[:, ::1], VECTOR, types.float64[:, ::1],
+             VECTOR, VECTOR)
+
 
 @njit(cache=True)
 def _proper(R, p):
@@ -68,10 +79,9 @@ def _proper(R, p):
 
 
 @njit(cache=True)
-def query(ints, floats, ma, mb, ws, R_a, p_a, R_b, p_b, method, eps, max_iter, warm, normal,
-          spread, touching_tol):
-    """(code, verdict, sigma, sigma_lower, sigma_upper, iterations, support_calls, next_spread,
-    packed) for Delta = R_A(A_0) - R_B(B_0) and r = p_B - p_A (eq. 10).
+def query(ints, floats, setup, state, R_a, p_a, R_b, p_b, packed):
+    """(code, verdict, sigma, sigma_lower, sigma_upper, iterations, support_calls) for
+    Delta = R_A(A_0) - R_B(B_0) and r = p_B - p_A (eq. 10).
 
     code: OK, BAD_POSE_A / BAD_POSE_B (wrong shape, not finite, or not a proper rotation: R^T R
     = I to ROTATION_TOL and det R > 0), COINCIDENT (sigma = 0). With t r <= z_Delta(r) <=
@@ -81,61 +91,82 @@ def query(ints, floats, ma, mb, ws, R_a, p_a, R_b, p_b, method, eps, max_iter, w
     PENETRATING. 0 is interior to Delta (both origins are interior points), so the ray always
     hits and only max_iter stops it short: NOT_CERTIFIED, sigma = 1/t (the method's last
     estimate, inf for t = 0), bracket [0, inf].
-    packed: the frame [R_A, p_A, R_B, p_B, the shooter's scalars] (a copy, so that the record's
-    contact stays right if the caller reuses its pose arrays), then the result of
-    `_dispatch.shoot` (graspforce._packed). The program's Affine nodes hold M = R_A at
-    floats[ma:ma + 9] and M = -R_B at floats[mb:mb + 9] (row-major), overwritten here. warm:
-    start ZC-IE from probes around `normal` at `spread` (graspforce._warm); next_spread is the
-    spread for the next warm call."""
-    frame = np.zeros(FRAME)
+    packed (FRAME + capacity(3, ws) entries): the frame [R_A, p_A, R_B, p_B, the shooter's
+    head] (a copy, so that the record's contact stays right if the caller reuses its pose
+    arrays), then the arrays of `_dispatch.shoot` (graspforce._packed). setup and state: above;
+    the program's Affine nodes hold M = R_A at floats[ma:ma + 9] and M = -R_B at
+    floats[mb:mb + 9] (row-major), overwritten here. With WARM_START, a call after a certified
+    one starts ZC-IE from probes around the last normal (graspforce._warm), spread by the last
+    change of the normal; the state remembers both.
+    """
     code = OK
     if not _proper(R_a, p_a):
         code = BAD_POSE_A
     elif not _proper(R_b, p_b):
         code = BAD_POSE_B
     if code != OK:
-        return code, NOT_CERTIFIED, 0.0, 0.0, 0.0, 0, 0, spread, frame
+        return code, NOT_CERTIFIED, 0.0, 0.0, 0.0, 0, 0
+    ma = setup[MA]
+    mb = setup[MB]
     r = np.empty(3)
     rr = 0.0
     for a in range(3):
         for b in range(3):
-            frame[3 * a + b] = R_a[a, b]
-            frame[12 + 3 * a + b] = R_b[a, b]
+            packed[3 * a + b] = R_a[a, b]
+            packed[12 + 3 * a + b] = R_b[a, b]
             floats[ma + 3 * a + b] = R_a[a, b]
             floats[mb + 3 * a + b] = -R_b[a, b]
-        frame[9 + a] = p_a[a]
-        frame[21 + a] = p_b[a]
+        packed[9 + a] = p_a[a]
+        packed[21 + a] = p_b[a]
         r[a] = p_b[a] - p_a[a]
         rr += r[a] * r[a]
+    for a in range(POSES, FRAME):
+        packed[a] = 0.0
     if rr == 0.0:
-        return COINCIDENT, PENETRATING, 0.0, 0.0, 0.0, 0, 0, spread, frame
+        # A(0) = B(0): no normal to remember
+        state[WARM] = 0.0
+        state[SPREAD] = WARM_SPREAD
+        return COINCIDENT, PENETRATING, 0.0, 0.0, 0.0, 0, 0
+    ws = setup[WS]
+    eps = state[EPS]
+    max_iter = setup[MAX_ITER]
+    warm = state[WARM] > 0.0
+    normal = state[NORMAL:NORMAL + 3]
     if warm:
-        out = shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread)
+        out = shoot_warm(ints, floats, r, ws, eps, max_iter, normal, state[SPREAD])
     else:
-        out = shoot(ints, floats, r, ws, method, eps, max_iter)
-    status, t, t_up = out[0], out[1], out[2]
-    frame[POSES] = status
-    frame[POSES + 1] = t
-    frame[POSES + 2] = t_up
-    frame[POSES + 3] = out[3]
-    frame[POSES + 4] = out[4]
-    frame[POSES + 5] = out[5]
-    frame[POSES + 6] = out[10]
-    next_spread = spread
+        out = shoot(ints, floats, r, ws, setup[METHOD], eps, max_iter)
+    status, t, t_up, h_n, iterations, calls, singular, k = pack(out, packed, FRAME)
+    packed[POSES] = status
+    packed[POSES + 1] = t
+    packed[POSES + 2] = t_up
+    packed[POSES + 3] = h_n
+    packed[POSES + 4] = iterations
+    packed[POSES + 5] = calls
+    packed[POSES + 6] = singular
+    packed[POSES + 7] = k
+    if setup[WARM_START] != 0:
+        # the first warm call probes at WARM_SPREAD, the next ones at the last change of the
+        # normal times SPREAD_GAIN
+        if status == HIT and warm:
+            dn = 0.0
+            for a in range(3):
+                dn += (out[6][a] - normal[a]) ** 2
+            state[SPREAD] = min(max(SPREAD_GAIN * np.sqrt(dn), SPREAD_MIN), SPREAD_MAX)
+        else:
+            state[SPREAD] = WARM_SPREAD
+        state[WARM] = 1.0 if status == HIT else 0.0
+        if status == HIT:
+            for a in range(3):
+                normal[a] = out[6][a]
     if status != HIT:
         sigma = 1.0 / t if t > 0.0 else np.inf
-        return (code, NOT_CERTIFIED, sigma, 0.0, np.inf, out[4], out[5], next_spread,
-                pack(out, frame)[7])
-    if warm:
-        dn = 0.0
-        for a in range(3):
-            dn += (out[6][a] - normal[a]) ** 2
-        next_spread = min(max(SPREAD_GAIN * np.sqrt(dn), SPREAD_MIN), SPREAD_MAX)
+        return code, NOT_CERTIFIED, sigma, 0.0, np.inf, iterations, calls
     upper = 1.0 / t
     lower = min(1.0 / t_up, upper)
-    if lower - touching_tol <= 1.0 <= upper + touching_tol:
+    tol = state[TOUCHING_TOL]
+    if lower - tol <= 1.0 <= upper + tol:
         verdict = TOUCHING
     else:
         verdict = SEPARATED if lower > 1.0 else PENETRATING
-    return (code, verdict, 0.5 * (lower + upper), lower, upper, out[4], out[5], next_spread,
-            pack(out, frame)[7])
+    return code, verdict, 0.5 * (lower + upper), lower, upper, iterations, calls

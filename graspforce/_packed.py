@@ -1,31 +1,36 @@
-"""A ray-shooting result crosses from compiled code to Python as one array.
+"""A ray-shooting result crosses from compiled code to Python as scalars and one array that the
+caller allocated.
 
-Numba boxes every returned array separately, ~0.5 us each (measured: a tuple of seven arrays
-3.9 us, one array 0.8 us), so the entry points called once per query return the scalars of the
-result and a single float array holding [extra (caller's data), normal (n), weights (k),
-vertices (k, n), witnesses (k, ws)]; Python takes views of it only when a field is read.
+Numba boxes every array it returns, ~0.5 us each (measured: a tuple of seven arrays 3.9 us, one
+array 0.8 us; the same array allocated by the caller with np.empty and filled in place, 0.2 us),
+so the entry points called once per query write [extra (caller's data), normal (n), weights
+(k), vertices (k, n), witnesses (k, ws)] into a float array of `capacity` entries after the
+extra ones, and return the scalars; Python takes views of the array only when a field is read.
 """
-import numpy as np
 from numba import njit
+from numba.extending import register_jitable
 
-HEAD = 7   # (status, t, t_upper, h_n, iterations, support_calls, singular_steps)
+HEAD = 8   # (status, t, t_upper, h_n, iterations, support_calls, singular_steps, k)
+
+
+@register_jitable
+def capacity(n, ws):
+    """Entries the arrays of a shot in R^n with witnesses of ws entries need: the shooters'
+    simplices have at most n + 2 rows."""
+    return n + (n + 2) * (1 + n + ws)
 
 
 @njit(cache=True)
-def pack(out, extra):
-    """(status, t, t_upper, h_n, iterations, support_calls, singular_steps, packed) from the
-    result tuple of the shooters (graspforce._shooters._result) and the caller's `extra`."""
+def pack(out, packed, e):
+    """The head (status, t, t_upper, h_n, iterations, support_calls, singular_steps, k) of the
+    shooters' result tuple `out` (graspforce._shooters._result), its arrays written to
+    packed[e:] (at least `capacity(n, ws)` entries)."""
     normal, V, lam, W = out[6], out[7], out[8], out[9]
     k, n = V.shape
     ws = W.shape[1]
-    e = extra.shape[0]
-    packed = np.empty(e + n + k * (1 + n + ws))
-    for a in range(e):
-        packed[a] = extra[a]
-    pos = e
     for a in range(n):
-        packed[pos + a] = normal[a]
-    pos += n
+        packed[e + a] = normal[a]
+    pos = e + n
     for j in range(k):
         packed[pos + j] = lam[j]
     pos += k
@@ -36,7 +41,7 @@ def pack(out, extra):
     for j in range(k):
         for a in range(ws):
             packed[pos + ws * j + a] = W[j, a]
-    return out[0], out[1], out[2], out[3], out[4], out[5], out[10], packed
+    return out[0], out[1], out[2], out[3], out[4], out[5], out[10], k
 
 
 def normal_of(packed, extra, n):
@@ -44,9 +49,10 @@ def normal_of(packed, extra, n):
     return packed[extra:extra + n]
 
 
-def unpack(packed, extra, n, ws):
-    """(normal, weights, vertices, witness rows) as views of `packed` after `extra` entries."""
-    k = (packed.shape[0] - extra - n) // (1 + n + ws)
+def unpack(packed, extra, n, ws, k):
+    """(normal, weights, vertices, witness rows) of k vertices as views of `packed` after
+    `extra` entries."""
     pos = extra + n
     return (normal_of(packed, extra, n), packed[pos:pos + k],
-            packed[pos + k:pos + k + n * k].reshape(k, n), packed[pos + k + n * k:].reshape(k, ws))
+            packed[pos + k:pos + k + n * k].reshape(k, n),
+            packed[pos + k + n * k:pos + k + (n + ws) * k].reshape(k, ws))

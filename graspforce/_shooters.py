@@ -38,8 +38,9 @@ ZC_IE = 4
 
 @njit(cache=True)
 def _result(status, t, t_up, h_n, iters, calls, normal, P, lam, Wt, k, singular):
-    return (status, t, t_up, h_n, iters, calls, normal.copy(), P[:k].copy(), lam[:k].copy(),
-            Wt[:k].copy(), singular)
+    # views, not copies: the shooter's arrays die with it, and every caller packs or reads the
+    # result before shooting again (four allocations a shot saved)
+    return status, t, t_up, h_n, iters, calls, normal, P[:k], lam[:k], Wt[:k], singular
 
 
 @njit(cache=True, forceinline=True)
@@ -68,7 +69,7 @@ def _miss(ints, floats, r, ws, eps, iters, calls, max_iter):
     point = np.empty(n)
     wit = np.empty(ws)
     st, k, d, h, it, c = zc(ints, floats, np.zeros(n), r, P, Wt, lam, 0, 0.0, 0.0, max_iter,
-                            nvec, v, point, wit)
+                            nvec, v, point, wit, scratch(n))
     if st == INSIDE:
         # r is in CO(A) after all: the caller's miss test was rounding (seen with GJK on a flat
         # A whose affine span holds the ray), and the ray meets A. ZC-IE decides it.
@@ -80,11 +81,11 @@ def _miss(ints, floats, r, ws, eps, iters, calls, max_iter):
 
 
 @njit(cache=True)
-def _on_ray(P, k, b, x, tol):
+def _on_ray(P, k, b, x, tol, sc):
     """Barycentric weights x of b in CH(P[:k]) if b lies there (the improved stopping rule of
-    Fig. 3b: the ray meets CH(V_A(b_k))); False otherwise."""
+    Fig. 3b: the ray meets CH(V_A(b_k))); False otherwise. sc: `scratch(n)`."""
     n = P.shape[1]
-    D, work, rhs, wrhs, _ = scratch(n)
+    D, work, rhs, wrhs, _ = sc
     for i in range(n):
         rhs[i] = b[i] - P[0, i]
         for j in range(1, k):
@@ -130,6 +131,7 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
     point = np.empty(n)
     wit = np.empty(ws)
     x = np.empty(n + 2)
+    sc = scratch(n)
     h0 = support(ints, floats, r, point, wit)
     calls = 1
     if h0 <= 0.0:
@@ -145,7 +147,7 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
     for it in range(max_iter):
         b = t * r
         st, k, d, h, gi, gc = gjk(ints, floats, b, P, Wt, lam, k, eps, 0.0, True,
-                                  max_iter, nvec, v, point, wit)
+                                  max_iter, nvec, v, point, wit, sc)
         calls += gc
         if st == INSIDE:
             # b_k = t r is in A: it met the boundary, or rounding in v_A(b_{k-1}) put it inside.
@@ -170,7 +172,7 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
             best_n[:] = nvec
             best_h = h
         t = t_next
-        if st == CONVERGED and _on_ray(P, k, t * r, x, 1e-12):
+        if st == CONVERGED and _on_ray(P, k, t * r, x, 1e-12, sc):
             for j in range(k):
                 lam[j] = x[j]
             return _result(HIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
@@ -178,10 +180,13 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
 
 
 @njit(cache=True)
-def _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter, nvec, v, point, wit):
-    """One ZC-based iteration (section 3.3) from b_k = t r: ZC on A - b_k toward r."""
+def _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter, nvec, v, point, wit, b, sc):
+    """One ZC-based iteration (section 3.3) from b_k = t r (written to b): ZC on A - b_k toward
+    r."""
+    for i in range(r.shape[0]):
+        b[i] = t * r[i]
     # purely relative: an absolute floor would accept h > eps n^T b when n^T r is small
-    return zc(ints, floats, t * r, r, P, Wt, lam, k, eps, 0.0, max_iter, nvec, v, point, wit)
+    return zc(ints, floats, b, r, P, Wt, lam, k, eps, 0.0, max_iter, nvec, v, point, wit, sc)
 
 
 REFACTOR = 16   # IE steps between fresh factorizations of the facet matrix
@@ -284,19 +289,18 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
         k = kz            # a warm-start facet (graspforce._warm): IE steps from it at once
     else:
         k = _restart(P, Wt, lam, kz) if kz > 0 else 0
-    nvec = np.empty(n)
-    v = np.empty(n)
-    point = np.empty(n)
+    # the n-vectors and n x n matrices as rows of two allocations: a shot of a few
+    # microseconds felt each of its ~40 allocations (~25 ns each)
+    vectors = np.empty((9, n))
+    nvec, v, point, ones, y, gam, alpha, col, b = (vectors[0], vectors[1], vectors[2],
+                                                   vectors[3], vectors[4], vectors[5],
+                                                   vectors[6], vectors[7], vectors[8])
+    ones[:] = 1.0
+    matrices = np.empty((3, n, n))
+    M, lu, B = matrices[0], matrices[1], matrices[2]
     wit = np.empty(ws)
-    ones = np.ones(n)
-    M = np.empty((n, n))
-    lu = np.empty((n, n))
     piv = np.empty(n, np.int64)
-    y = np.empty(n)
-    gam = np.empty(n)
-    alpha = np.empty(n)
-    B = np.empty((n, n))
-    col = np.empty(n)
+    sc = scratch(n)
     age = -1
     fresh_only = False
     while it < max_iter:
@@ -397,12 +401,12 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                 continue
         age = -1
         st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter,
-                                           nvec, v, point, wit)
+                                           nvec, v, point, wit, b, sc)
         calls += zcalls
         if st == STALLED and t > 0.0:
             # rounding in the warm-started generators: start ZC afresh from b_k once
             st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, 0, eps,
-                                               max_iter, nvec, v, point, wit)
+                                               max_iter, nvec, v, point, wit, b, sc)
             calls += zcalls
         it += 1
         if st == INSIDE:
@@ -446,8 +450,9 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
     point = np.empty(n)
     wit = np.empty(ws)
     x = np.empty(n + 2)
+    sc = scratch(n)
     st, k, d, h, zi, calls = zc(ints, floats, np.zeros(n), r, P, Wt, lam, 0, 0.0, 0.0,
-                                max_iter, nvec, v, point, wit)
+                                max_iter, nvec, v, point, wit, sc)
     if st != INSIDE:
         # as in zc_from at t = 0: a certified miss, or r on the boundary of CO(A) to rounding
         return _result(MISS if st != MAX_ITER else LIMIT, 0.0, 0.0, h, 1, calls, nvec, P,
@@ -472,7 +477,7 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
         tm = 0.5 * (t_lo + t_hi)
         b = tm * r
         st, k, d, h, gi, gc = gjk(ints, floats, b, P, Wt, lam, k, eps, 0.0, True,
-                                  max_iter, nvec, v, point, wit)
+                                  max_iter, nvec, v, point, wit, sc)
         calls += gc
         if st == MAX_ITER:
             break
@@ -491,7 +496,7 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
         if rn <= 0.0:
             continue
         t_b = tm - d / rn
-        if st == CONVERGED and t_b > t_lo and _on_ray(P, k, t_b * r, x, 1e-12):
+        if st == CONVERGED and t_b > t_lo and _on_ray(P, k, t_b * r, x, 1e-12, sc):
             t_lo = t_b
             kz = _keep(P, Wt, x, k, Pz, Wz, lz)
     return _result(LIMIT, t_lo, t_up, best_h, max_iter, calls, best_n, Pz, lz, Wz, kz, 0)

@@ -5,7 +5,6 @@ import numpy as np
 
 from . import _shooters as S
 from ._forces import BAD_WRENCH, SIGNATURE, ZERO_WRENCH, extra_size, shoot_and_read_forces
-from ._packed import HEAD
 from ._signature import one_signature
 from ._validate import check_choice, finite_vector
 from .contact import Contact
@@ -77,7 +76,8 @@ class Grasp:
         W = space.set
         ints, floats = W.program
         args = (ints, floats, w_ext, W.witness_size, code, eps, max_iter, self.contact_matrices,
-                space.table, space.maps, norm == "Linf", magnitude == "full", space.spin_weight)
+                space.table, space.maps, norm == "Linf", magnitude == "full", space.spin_weight,
+                np.empty(space.packed_size))
         try:
             # the common call, a float64 (6,) array, goes straight to the compiled code, which
             # also checks it; anything else fails the call (one compiled signature)
@@ -88,7 +88,7 @@ class Grasp:
             # a new C-contiguous, writable float64 array: the type the compiled code takes
             w_ext = np.array(finite_vector(w_ext, "w_ext", 6)[0])
             res = shoot_and_read_forces(ints, floats, w_ext, *args[3:])
-        verdict, head, packed = res[0], res[1:1 + HEAD], res[1 + HEAD]
+        verdict, head, packed = res[0], res[1:], args[-1]
         if verdict == ZERO_WRENCH:
             return self._without_forces(space, "optimal", 0.0, method, None)
         sigma = packed[0]

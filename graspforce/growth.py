@@ -27,10 +27,11 @@ B(sigma) in {x : n^T x >= n^T point_b}. So n, normalized, is the contact normal 
 """
 import numpy as np
 
-from ._growth import (BAD_POSE_A, COINCIDENT, FRAME, NOT_CERTIFIED, OK, PENETRATING, POSES,
-                      SEPARATED, SIGNATURE, TOUCHING, query)
+from ._growth import (BAD_POSE_A, COINCIDENT, EPS, FRAME, NOT_CERTIFIED, OK, PENETRATING, POSES,
+                      SEPARATED, SIGNATURE, SPREAD, STATE_SIZE, TOUCHING, TOUCHING_TOL,
+                      WARM_SPREAD, query)
 from ._kernel import children, param_start
-from ._packed import normal_of
+from ._packed import capacity
 from ._signature import one_signature
 from ._validate import check_choice, finite_array
 from .quality import facet_expansion
@@ -38,10 +39,8 @@ from .ray_shoot import METHODS, check_tolerances, make_ray_shot
 from .results import GrowthDistanceResult
 from .sets import Affine, ConvexSet, MinkowskiSum
 
-WARM_SPREAD = 0.05     # first warm start: probes at the last normal +- this (a unit vector's tilt)
 ORIGIN_TOL = 1e-9      # an origin closer than this fraction of the set's width to its boundary
                        # is not accepted as the interior point p_A of eq. (7)
-_NO_NORMAL = np.zeros(3)
 _VERDICTS = {SEPARATED: "separated", TOUCHING: "touching", PENETRATING: "penetrating",
              NOT_CERTIFIED: "max_iter"}
 
@@ -76,7 +75,8 @@ class GrowthDistance:
 
     warm_start (method "zc-ie" only): each call after a certified one starts IE from support
     points in directions spread around the previous normal (graspforce._warm) instead of ZC from
-    the origin; for a pair that moves little between calls (time coherence).
+    the origin; for a pair that moves little between calls (time coherence). The compiled query
+    keeps that memory in the solver's state array (graspforce._growth).
     """
 
     def __init__(self, A, B, method="zc-ie", eps=1e-9, max_iter=1000, touching_tol=1e-9,
@@ -97,52 +97,43 @@ class GrowthDistance:
         self.delta = MinkowskiSum([Affine(np.eye(3), A), Affine(-np.eye(3), B)])
         ints, floats = self.delta.program
         # an Affine node's parameters are [m, n, M (row-major), t]: M starts 2 further
-        self._ma, self._mb = (param_start(ints, node) + 2 for node in children(ints, 0))
+        ma, mb = (param_start(ints, node) + 2 for node in children(ints, 0))
         self._ints, self._floats = ints, floats
-        self._ws = self.delta.witness_size
+        ws = self.delta.witness_size
         self._leaves_a = len(A.leaves())
         self.warm_start = bool(warm_start) and method == "zc-ie"
+        self._setup = np.array([ma, mb, ws, self._code, self.max_iter, self.warm_start],
+                               np.int64)
+        self._state = np.zeros(STATE_SIZE)
+        self._state[[EPS, TOUCHING_TOL, SPREAD]] = self.eps, touching_tol, WARM_SPREAD
+        self._size = FRAME + capacity(3, ws)
         one_signature(query, SIGNATURE)
-        self._normal = _NO_NORMAL
-        self._warm = False
-        self._spread = WARM_SPREAD
 
     def __call__(self, pose_a, pose_b):
         """The GrowthDistanceResult at these poses."""
+        packed = np.empty(self._size)
         try:
             # the common call, (R, p) pairs of float64 arrays, goes straight to the compiled
             # query; anything else fails it with a TypeError (one compiled signature) or fails
             # to unpack, and is converted below
             (R_a, p_a), (R_b, p_b) = pose_a, pose_b
-            res = self._query(R_a, p_a, R_b, p_b)
+            res = query(self._ints, self._floats, self._setup, self._state, R_a, p_a, R_b, p_b,
+                        packed)
         except (TypeError, ValueError):
             res = None
         if res is None or res[0] != OK:
             R_a, p_a = parse_pose(pose_a, "pose_a")
             R_b, p_b = parse_pose(pose_b, "pose_b")
-            res = self._query(R_a, p_a, R_b, p_b)
+            res = query(self._ints, self._floats, self._setup, self._state, R_a, p_a, R_b, p_b,
+                        packed)
             code = res[0]
             if code != OK and code != COINCIDENT:
                 name = "pose_a" if code == BAD_POSE_A else "pose_b"
                 raise ValueError(f"{name}: the rotation must be proper (R^T R = I to 1e-9, "
                                  "det R = 1)")
-        code, verdict, sigma, lower, upper, iterations, calls, spread, packed = res
-        if self.warm_start:
-            # the first warm call probes at WARM_SPREAD, the next ones at the spread the last
-            # change of the normal suggests (graspforce._growth)
-            hit = verdict != NOT_CERTIFIED and code == OK
-            self._spread = spread if self._warm and hit else WARM_SPREAD
-            self._warm = hit
-            if hit:
-                # a copy: the record's packed array turns read-only once its shot is read
-                self._normal = normal_of(packed, FRAME, 3).copy()
+        code, verdict, sigma, lower, upper, iterations, calls = res
         return GrowthDistanceResult(sigma, lower, upper, _VERDICTS[verdict], self.method,
                                     iterations, calls, (self, code, packed))
-
-    def _query(self, R_a, p_a, R_b, p_b):
-        return query(self._ints, self._floats, self._ma, self._mb, self._ws, R_a, p_a, R_b, p_b,
-                     self._code, self.eps, self.max_iter, self._warm, self._normal,
-                     self._spread, self.touching_tol)
 
 
 def shot_of(result):
@@ -151,8 +142,8 @@ def shot_of(result):
     solver, code, packed = result._raw
     if code == COINCIDENT:
         return None
-    status, t, t_upper, h_n, iterations, calls, singular = packed[POSES:FRAME].tolist()
-    head = (int(status), t, t_upper, h_n, int(iterations), int(calls), int(singular))
+    status, t, t_upper, h_n, iterations, calls, singular, k = packed[POSES:FRAME].tolist()
+    head = (int(status), t, t_upper, h_n, int(iterations), int(calls), int(singular), int(k))
     return make_ray_shot(solver.delta, packed[21:24] - packed[9:12], solver.method, head,
                          packed, extra=FRAME)
 

@@ -6,7 +6,7 @@ from numba import njit
 
 from . import _shooters as S
 from ._dispatch import shoot
-from ._packed import HEAD, pack
+from ._packed import capacity, pack
 from ._validate import check_choice, finite_scalar, finite_vector, positive_int
 from .results import RayShot
 from .sets import ConvexSet
@@ -45,16 +45,19 @@ def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=1000):
     code = METHODS[check_choice(method, METHODS, "method")]
     r, eps, max_iter = check_ray_input(A, r, eps, max_iter)
     ints, floats = A.program
-    head_packed = shoot_packed(ints, floats, r, A.witness_size, code, eps, max_iter)
-    return make_ray_shot(A, r, method, head_packed[:HEAD], head_packed[HEAD])
+    ws = A.witness_size
+    packed = np.empty(capacity(A.dim, ws))
+    head = shoot_packed(ints, floats, r, ws, code, eps, max_iter, packed)
+    return make_ray_shot(A, r, method, head, packed)
 
 
 @njit(cache=True)
-def shoot_packed(ints, floats, r, ws, method, eps, max_iter):
-    return pack(shoot(ints, floats, r, ws, method, eps, max_iter), np.empty(0))
+def shoot_packed(ints, floats, r, ws, method, eps, max_iter, packed):
+    """The head of the shot; its arrays into `packed` (graspforce._packed)."""
+    return pack(shoot(ints, floats, r, ws, method, eps, max_iter), packed, 0)
 
 
 def make_ray_shot(A, r, method, head, packed, extra=0):
-    """The RayShot of a compiled result: `head` its scalars, `packed` its arrays after `extra`
-    entries of the caller's (graspforce._packed)."""
+    """The RayShot of a compiled result: `head` its scalars (graspforce._packed.HEAD),
+    `packed` its arrays after `extra` entries of the caller's."""
     return RayShot(A, r, method, head[0] == S.HIT, _STATUS[head[0]], head, packed, extra)

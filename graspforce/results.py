@@ -21,7 +21,7 @@ class RayShot:
     singular_steps counts the iterations in which the ray crossed the inner polytope through a
     face of dimension < n - 1: IE's facet-collection steps, ZC-IE's hand-overs to ZC-based
     iterations (section 3.2, 3.4.2); 0 for the other methods.
-    The arrays are views of the one array the compiled shooter returned (graspforce._packed),
+    The arrays are views of the one array the compiled shooter filled (graspforce._packed),
     taken when first read: a caller who needs only t pays for none of them. Read-only.
     """
 
@@ -32,14 +32,15 @@ class RayShot:
         self.hit = hit
         self.status = status
         _, self.t, self.t_upper, self.support_value, self.iterations, self.support_calls, \
-            self.singular_steps = head
+            self.singular_steps, self._k = head
         self._packed = packed
         self._extra = extra
 
     @cached_property
     def _arrays(self):
         self._packed.flags.writeable = False
-        return unpack(self._packed, self._extra, self.r.shape[0], self.convex_set.witness_size)
+        return unpack(self._packed, self._extra, self.r.shape[0], self.convex_set.witness_size,
+                      self._k)
 
     @property
     def normal(self):
@@ -131,7 +132,7 @@ class MinForce:
     force vectors in the world frame; wrenches: (m, 6) G_i f_i; resultant: sum of the wrenches.
     Infinite sigma and zero forces when infeasible. `shot` is the underlying RayShot.
     The force arrays of a ray-shooting answer are views of the one array the compiled code
-    returned (graspforce._packed), taken when first read; read-only.
+    filled (graspforce._packed), taken when first read; read-only.
     """
 
     def __init__(self, feasible, status, sigma, sigma_lower, forces, world_forces, wrenches,

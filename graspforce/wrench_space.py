@@ -21,6 +21,8 @@ only for symmetric grasps such as the paper's sphere.
 """
 import numpy as np
 
+from ._forces import extra_size
+from ._packed import capacity
 from .sets import ConeCap, Ellipsoid, Polytope, affine, hull, minkowski_sum
 
 NORMS = ("L1", "Linf")
@@ -73,6 +75,8 @@ class WrenchSpace:
         # the weight of f_4^2 in ||f||^2 of eq. (15); point contacts have no f_4
         self.spin_weight = np.array([(c.mu / c.mu_spin) ** 2 if c.mu_spin > 0.0 else 0.0
                                      for c in contacts])
+        # entries of the array a min_force call fills: the forces, then the shot's arrays
+        self.packed_size = extra_size(len(contacts)) + capacity(6, self.set.witness_size)
 
     def _table(self, maps):
         """table (4, leaves): per leaf its contact (-1 for the origin of CH({0} U W_i)), the
