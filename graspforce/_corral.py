@@ -8,7 +8,7 @@ recursion it is exact in any dimension and never enumerates sub-simplices.
 """
 from numba import njit
 
-from ._linalg import lstsq
+from ._linalg import lstsq, lstsq_append
 
 
 @njit(cache=True, forceinline=True)
@@ -34,13 +34,19 @@ def drop_point(P, Wt, lam, k, j):
 
 
 @njit(cache=True)
-def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x):
+def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x, house, fact):
     """Reduce the simplex P[:k] (the last row just added, weight 0) to the minimal subset whose
     hull (affine=True: convex combinations) or cone (affine=False: nonnegative combinations of
     P_i - shift) holds the point closest to `target`. Writes the positive weights to lam[:k].
 
-    Returns (k, newest_kept): newest_kept is False when the new point brought no improvement or
-    was numerically dependent on the others, which the callers read as "no progress".
+    The cone's least squares keep their QR between calls (`lstsq_append`): `fact` columns,
+    P[:fact] - shift, are factored in work and house from the previous call with the same
+    target and shift (0: none). The hull's are solved afresh (their columns P_j - P_0 all change
+    when P_0 leaves).
+
+    Returns (k, newest_kept, fact): newest_kept is False when the new point brought no
+    improvement or was numerically dependent on the others, which the callers read as "no
+    progress"; fact for the next call.
     """
     n = P.shape[1]
     newest = k - 1
@@ -51,16 +57,21 @@ def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x):
                 rhs[i] = target[i] - P[0, i]
                 for j in range(1, k):
                     D[i, j - 1] = P[j, i] - P[0, i]
+            ok = lstsq(D, n, q, rhs, x, 1, work, wrhs)
         else:
             q = k
             for i in range(n):
                 rhs[i] = target[i]
-                for j in range(k):
+                for j in range(fact, k):
                     D[i, j] = P[j, i] - shift[i]
-        if not lstsq(D, n, q, rhs, x, 1 if affine else 0, work, wrhs):
+            fact = lstsq_append(D, n, q, fact, rhs, x, work, wrhs, house)
+            ok = fact >= 0
+            fact = max(fact, 0)
+        if not ok:
             if newest < 0:
-                return k, False
+                return k, False, fact
             k = drop_point(P, Wt, lam, k, newest)
+            fact = min(fact, newest)
             newest = -1
             continue
         if affine:
@@ -80,7 +91,7 @@ def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x):
         if arg < 0:
             for j in range(k):
                 lam[j] = x[j]
-            return k, newest >= 0
+            return k, newest >= 0, fact
         for j in range(k):
             lam[j] += theta * (x[j] - lam[j])
         lam[arg] = 0.0
@@ -88,12 +99,13 @@ def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x):
         while j >= 0:
             if lam[j] <= 0.0:
                 k = drop_point(P, Wt, lam, k, j)
+                fact = min(fact, j)
                 if j == newest:
                     newest = -1
                 elif j < newest:
                     newest -= 1
             j -= 1
-    return k, False
+    return k, False, fact
 
 
 @njit(cache=True, forceinline=True)

@@ -24,10 +24,11 @@ ROUNDING = 1e-13   # about 500 unit roundoffs
 
 @njit(cache=True)
 def scratch(n):
-    """Work arrays of the active-set subproblem (D, work, rhs, wrhs, x): allocated once by each
-    shooter and passed to every GJK / ZC call, so that the calls of one shot allocate nothing."""
+    """Work arrays of the active-set subproblem (D, work, rhs, wrhs, x, house; graspforce._corral):
+    allocated once by each shooter and passed to every GJK / ZC call, so that the calls of one
+    shot allocate nothing."""
     return (np.empty((n, n + 1)), np.empty((n, n + 1)), np.empty(n), np.empty(n),
-            np.empty(n + 2))
+            np.empty(n + 2), np.empty((3, n + 1)))
 
 
 @njit(cache=True)
@@ -41,7 +42,7 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
     sc: the work arrays of `scratch(n)`.
     """
     n = b.shape[0]
-    D, work, rhs, wrhs, x = sc
+    D, work, rhs, wrhs, x, house = sc
     calls = 0
     if k == 0:
         for i in range(n):
@@ -54,7 +55,7 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
         lam[0] = 1.0
         k = 1
     else:
-        k, _ = corral(P, Wt, lam, k, b, b, True, D, work, rhs, wrhs, x)
+        k, _, _ = corral(P, Wt, lam, k, b, b, True, D, work, rhs, wrhs, x, house, 0)
     tiny = ROUNDING * (np.sqrt(dot(b, b)) + np.sqrt(dot(P[0], P[0]))) + 1e-300
     d = np.inf
     h = 0.0
@@ -78,7 +79,7 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
             return CONVERGED, k, d, h, it + 1, calls
         set_row(P, Wt, k, point, wit)
         lam[k] = 0.0
-        k, kept = corral(P, Wt, lam, k + 1, b, b, True, D, work, rhs, wrhs, x)
+        k, kept, _ = corral(P, Wt, lam, k + 1, b, b, True, D, work, rhs, wrhs, x, house, 0)
         if not kept:
             return STALLED, k, d, h, it + 1, calls
     return MAX_ITER, k, d, h, max_iter, calls
@@ -95,7 +96,7 @@ def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, n
     arrays of `scratch(n)`.
     """
     n = target.shape[0]
-    D, work, rhs, wrhs, x = sc
+    D, work, rhs, wrhs, x, house = sc
     calls = 0
     tnorm = np.sqrt(dot(target, target))
     if k == 0:
@@ -114,7 +115,7 @@ def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, n
     else:
         for j in range(k):
             lam[j] = 0.0
-    k, _ = corral(P, Wt, lam, k, target, shift, False, D, work, rhs, wrhs, x)
+    k, _, fact = corral(P, Wt, lam, k, target, shift, False, D, work, rhs, wrhs, x, house, 0)
     h = 0.0
     d = tnorm
     for it in range(max_iter):
@@ -151,7 +152,8 @@ def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, n
             return CONVERGED, k, d, h, it + 1, calls
         set_row(P, Wt, k, point, wit)
         lam[k] = 0.0
-        k, kept = corral(P, Wt, lam, k + 1, target, shift, False, D, work, rhs, wrhs, x)
+        k, kept, fact = corral(P, Wt, lam, k + 1, target, shift, False, D, work, rhs, wrhs, x,
+                               house, fact)
         if not kept:
             return STALLED, k, d, h, it + 1, calls
     return MAX_ITER, k, d, h, max_iter, calls

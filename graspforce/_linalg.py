@@ -88,6 +88,80 @@ def lstsq(D, n, q, rhs, x, x0, work, wrhs):
 
 
 @njit(cache=True)
+def lstsq_append(D, n, q, fact, rhs, x, work, wrhs, house):
+    """`lstsq` (x at offset 0) when work and house already hold the Householder QR of D's first
+    `fact` columns, left by an earlier call on the same columns: only columns fact..q-1 are
+    reduced, O(n q) a column instead of O(n q^2) for all. ZC's active set grows a column a
+    step, so each of its projections reduces one column (D's first `fact` columns are not
+    read). house: per column the reflection's first entry, 2 / ||v||^2 and the column's norm.
+    Returns q, the columns now factored, or -1 when D is (numerically) rank deficient: the
+    same test as `lstsq`, alpha_j <= RANK_TOL max_j ||D_j||.
+    """
+    # Q^T rhs through the reflections kept, then each new one
+    for i in range(n):
+        wrhs[i] = rhs[i]
+    for j in range(q):
+        if j >= fact:
+            norm2 = 0.0
+            for i in range(n):
+                work[i, j] = D[i, j]
+                norm2 += D[i, j] * D[i, j]
+            house[2, j] = np.sqrt(norm2)
+            for c in range(j):
+                _reflect_column(work, n, house, c, j)
+            s = 0.0
+            for i in range(j, n):
+                s += work[i, j] * work[i, j]
+            alpha = np.sqrt(s)
+            if work[j, j] > 0.0:
+                alpha = -alpha
+            v0 = work[j, j] - alpha
+            vnorm2 = s - work[j, j] * work[j, j] + v0 * v0
+            house[0, j] = v0
+            house[1, j] = 2.0 / vnorm2 if vnorm2 > 0.0 else 0.0
+            work[j, j] = alpha
+        _reflect_vector(work, n, house, j, wrhs)
+    scale = 0.0
+    for j in range(q):
+        scale = max(scale, house[2, j])
+    for j in range(q):
+        if not abs(work[j, j]) > RANK_TOL * scale:
+            return -1
+    for j in range(q - 1, -1, -1):
+        s = wrhs[j]
+        for c in range(j + 1, q):
+            s -= work[j, c] * x[c]
+        x[j] = s / work[j, j]
+    return q
+
+
+@njit(cache=True, forceinline=True)
+def _reflect_column(work, n, house, j, c):
+    """Apply reflection j of `lstsq_append` (v = [house[0, j], work[j+1:, j]]) to work[:, c]."""
+    v0 = house[0, j]
+    d = v0 * work[j, c]
+    for i in range(j + 1, n):
+        d += work[i, j] * work[i, c]
+    f = house[1, j] * d
+    work[j, c] -= f * v0
+    for i in range(j + 1, n):
+        work[i, c] -= f * work[i, j]
+
+
+@njit(cache=True, forceinline=True)
+def _reflect_vector(work, n, house, j, y):
+    """Apply reflection j of `lstsq_append` to the vector y."""
+    v0 = house[0, j]
+    d = v0 * y[j]
+    for i in range(j + 1, n):
+        d += work[i, j] * y[i]
+    f = house[1, j] * d
+    y[j] -= f * v0
+    for i in range(j + 1, n):
+        y[i] -= f * work[i, j]
+
+
+@njit(cache=True)
 def lu_factor(M, n, lu, piv):
     """LU with partial pivoting of M[:n, :n] into lu; False when singular to working precision."""
     scale = 0.0

@@ -44,14 +44,17 @@ def _result(status, t, t_up, h_n, iters, calls, normal, P, lam, Wt, k, singular)
 
 
 @njit(cache=True, forceinline=True)
-def _keep(P, Wt, lam, k, Pz, Wz, lz):
+def _keep(P, Wt, lam, k, Pz, Wz, lz, changed=-1):
     """Save the simplex holding the current point on the ray: it becomes Z_A(r) at the end.
-    Element loops, not slices: a slice costs a reference-count round trip per call."""
+    changed >= 0: Pz[:k], Wz[:k] already hold P[:k], Wt[:k] but for that row (an IE step
+    replaces one vertex), which alone is copied. Element loops, not slices: a slice costs a
+    reference-count round trip per call."""
     for j in range(k):
-        for i in range(P.shape[1]):
-            Pz[j, i] = P[j, i]
-        for i in range(Wt.shape[1]):
-            Wz[j, i] = Wt[j, i]
+        if changed < 0 or j == changed:
+            for i in range(P.shape[1]):
+                Pz[j, i] = P[j, i]
+            for i in range(Wt.shape[1]):
+                Wz[j, i] = Wt[j, i]
         lz[j] = lam[j]
     return k
 
@@ -85,7 +88,7 @@ def _on_ray(P, k, b, x, tol, sc):
     """Barycentric weights x of b in CH(P[:k]) if b lies there (the improved stopping rule of
     Fig. 3b: the ray meets CH(V_A(b_k))); False otherwise. sc: `scratch(n)`."""
     n = P.shape[1]
-    D, work, rhs, wrhs, _ = sc
+    D, work, rhs, wrhs, _, _ = sc
     for i in range(n):
         rhs[i] = b[i] - P[0, i]
         for j in range(1, k):
@@ -302,6 +305,8 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
     piv = np.empty(n, np.int64)
     sc = scratch(n)
     age = -1
+    # the row of P that the last IE step replaced since Pz last held the facet (-1: unknown)
+    changed = -1
     fresh_only = False
     while it < max_iter:
         if use_ie and k == n:
@@ -381,7 +386,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     continue
                 for j in range(n):
                     lam[j] = gam[j] * t
-                kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
+                kz = _keep(P, Wt, lam, n, Pz, Wz, lz, changed)
                 # ratio test: the new facet the ray crosses replaces the vertex j*
                 _matvec(B, n, point, alpha)
                 js = 0
@@ -393,6 +398,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                         best = gam[j] / alpha[j]
                         js = j
                 set_row(P, Wt, js, point, wit)
+                changed = js
                 if alpha[js] > 1e-8 * amax:
                     _pivot(B, n, alpha, js)
                     age += 1
@@ -400,6 +406,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     age = -1
                 continue
         age = -1
+        changed = -1
         st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter,
                                            nvec, v, point, wit, b, sc)
         calls += zcalls
