@@ -216,9 +216,10 @@ def warm_start_rows(eps, steps=(400, 4000)):
 
 
 def time_split(pairs, eps, method="zc-ie"):
-    """Where a query's time goes (contact case): the whole Python call, the compiled query alone
-    (graspforce._growth.query: pose checks, rotations written in place, the shooter), and the
-    support calls alone (mean calls per query times one call's cost, from a compiled loop)."""
+    """Where a query's time goes (contact case): the whole Python call, the compiled query
+    called from Python (graspforce._growth.query: Numba's dispatch of its nine arrays, pose
+    checks, rotations written in place, the shooter), and the support calls alone (mean calls
+    per query times one call's cost, from a compiled loop)."""
     from numba import njit
 
     import graspforce as gf
@@ -338,7 +339,7 @@ def run(n_pairs=3000, n_shapes=100, eps=1e-9, seed=0, methods=METHODS, plots=Fal
     for (n, k), r in warm.items():
         lines.append(f"| {n} | {k} | {r['median_us']:.1f} | {r['mean_iters']:.1f} |")
     lines += ["", "### Where a zc-ie query's time goes (contact case, 500 pairs, medians)\n",
-              ("| whole Python call us | compiled query us | support calls per query "
+              ("| whole Python call us | compiled query from Python us | support calls per query "
                "| one support call ns | support calls alone us |"), "|---|---|---|---|---|",
               (f"| {split['full_us']:.1f} | {split['compiled_us']:.1f} | {split['calls']:.1f} | "
                f"{split['per_call_ns']:.0f} | {split['support_us']:.1f} |")]
