@@ -120,10 +120,10 @@ def query(ints, floats, setup, state, R_a, p_a, R_b, p_b, packed):
         packed[21 + a] = p_b[a]
         r[a] = p_b[a] - p_a[a]
         rr += r[a] * r[a]
-    for a in range(POSES, FRAME):
-        packed[a] = 0.0
     if rr == 0.0:
-        # A(0) = B(0): no normal to remember
+        # A(0) = B(0): no shot, an empty head, no normal to remember
+        for a in range(POSES, FRAME):
+            packed[a] = 0.0
         state[WARM] = 0.0
         state[SPREAD] = WARM_SPREAD
         return COINCIDENT, PENETRATING, 0.0, 0.0, 0.0, 0, 0
