@@ -38,7 +38,7 @@ import numpy as np
 from benchmarks.grasp_sets import (ingot_ellipsoids, ingot_grasp, ingot_grasp_sets, random_wrenches,
                                    support_L1)
 
-METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie")
+METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie", "zc-ie-newton")
 HERE = os.path.dirname(os.path.abspath(__file__))
 PAPER_TABLES = os.path.join(os.path.dirname(os.path.dirname(HERE)), "shared", "reference",
                             "paper_tables.json")

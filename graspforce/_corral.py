@@ -6,6 +6,7 @@ Lawson-Hanson for the cone): solve the unconstrained least-squares problem on th
 if a weight is not positive, step back to the boundary and drop that point. Unlike Johnson's
 recursion it is exact in any dimension and never enumerates sub-simplices.
 """
+import numpy as np
 from numba import njit
 
 from ._linalg import lstsq, lstsq_append
@@ -31,6 +32,29 @@ def drop_point(P, Wt, lam, k, j):
             Wt[i, a] = Wt[i + 1, a]
         lam[i] = lam[i + 1]
     return k - 1
+
+
+@njit(cache=True)
+def reproduce(P, x, k, b):
+    """Whether the weights x[:k] of the rows P[:k] reproduce b to 1e-12 (1 + ||b||), the rounding
+    floor of Fig. 3b's rule; if so they are clipped at zero and normalized to sum to 1."""
+    res = 0.0
+    bn = 0.0
+    for i in range(P.shape[1]):
+        e = -b[i]
+        for j in range(k):
+            e += x[j] * P[j, i]
+        res += e * e
+        bn += b[i] * b[i]
+    if res > (1e-12 * (1.0 + np.sqrt(bn))) ** 2:
+        return False
+    s = 0.0
+    for j in range(k):
+        x[j] = max(x[j], 0.0)
+        s += x[j]
+    for j in range(k):
+        x[j] /= s
+    return True
 
 
 @njit(cache=True)

@@ -2,8 +2,8 @@
 from numba import njit
 
 from ._ie import ie
-from ._shooters import (BI_GJK, GJK_BASED, HIT, IE, WITH_IE, ZC_IE, ZC_ONLY, bi_gjk,
-                        gjk_based, zc_family)
+from ._shooters import (BI_GJK, GJK_BASED, HIT, IE, WITH_IE, WITH_NEWTON, ZC_IE, ZC_IE_NEWTON,
+                        ZC_ONLY, bi_gjk, gjk_based, zc_family)
 
 
 @njit(cache=True)
@@ -13,6 +13,8 @@ def shoot(ints, floats, r, ws, method, eps, max_iter):
         return ie(ints, floats, r, ws, eps, max_iter)
     if method == ZC_IE:
         return zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE)
+    if method == ZC_IE_NEWTON:
+        return zc_family(ints, floats, r, ws, eps, max_iter, WITH_NEWTON)
     if method == GJK_BASED:
         out = gjk_based(ints, floats, r, ws, eps, max_iter)
     elif method == BI_GJK:

@@ -32,9 +32,17 @@ SUM = 11
 AFFINE = 12    # params: m, n, M (m*n), t (m)
 
 
-# the blocks of `ints` after nn, in order; `support` spells the same offsets out for Numba
+# the blocks of `ints` after nn, in order (`blocks` gives their offsets to compiled code)
 BLOCKS = ("kind", "dim", "pstart", "cstart", "ccount", "wstart", "dstart", "ostart", "choice",
           "active", "children")
+
+
+@njit(cache=True, inline='always')
+def blocks(nn):
+    """The offsets in `ints` of the blocks of BLOCKS, in that order, for a program of nn nodes
+    (compiled code unpacks them into named constants)."""
+    return (1, 1 + nn, 1 + 2 * nn, 1 + 3 * nn, 1 + 4 * nn, 1 + 5 * nn, 1 + 6 * nn, 1 + 7 * nn,
+            1 + 8 * nn, 1 + 9 * nn, 1 + 10 * nn)
 
 
 def _block(ints, name, node=0):
@@ -267,22 +275,13 @@ def _cone_cap_support(f, p, d, o, wit, w):
 def support(ints, f, u, point, wit):
     """h_A(u) (returned) and s_A(u) (into `point`) of eq. (2); the witness goes into `wit`.
 
-    Blocks of `ints` (each nn long): 1 kind, 2 dim, 3 pstart, 4 cstart, 5 ccount, 6 wstart,
-    7 dstart, 8 ostart, 9 choice, 10 active, then children. Node i reads its direction at
+    The blocks of `ints` are those of BLOCKS, at the offsets `blocks(nn)`. Node i reads its
+    direction at
     f[dstart:], writes its point to f[ostart:ostart + dim] and its value to f[ostart + dim].
     """
     nn = ints[0]
-    KIND = 1
-    DIM = 1 + nn
-    PSTART = 1 + 2 * nn
-    CSTART = 1 + 3 * nn
-    CCOUNT = 1 + 4 * nn
-    WSTART = 1 + 5 * nn
-    DSTART = 1 + 6 * nn
-    OSTART = 1 + 7 * nn
-    CHOICE = 1 + 8 * nn
-    ACTIVE = 1 + 9 * nn
-    CHILDREN = 1 + 10 * nn
+    KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
+        blocks(nn)
     d0 = ints[DSTART]
     n0 = ints[DIM]
     for a in range(n0):

@@ -240,3 +240,69 @@ def lu_solve_t(lu, piv, n, b, x):
             tmp = x[k]
             x[k] = x[p]
             x[p] = tmp
+
+
+@njit(cache=True, forceinline=True)
+def _swap(a, order, n, i, j):
+    """Exchange rows i and j of a[:, :n] and entries i and j of the permutation `order`."""
+    if i == j:
+        return
+    for c in range(n):
+        tmp = a[i, c]
+        a[i, c] = a[j, c]
+        a[j, c] = tmp
+    tmp2 = order[i]
+    order[i] = order[j]
+    order[j] = tmp2
+
+
+@njit(cache=True)
+def solve_basic(M, n, lu, prow, pcol, b, x, tol=1e-13):
+    """A basic solution x of M[:n, :n] x = b by LU with complete pivoting: the unknowns past the
+    numerical rank are zero and the equations past it are dropped (consistent for the
+    rank-deficient systems this serves: KKT systems whose multipliers are not unique). Returns
+    the rank. lu (n, n) and prow, pcol (n, int) are work."""
+    scale = 0.0
+    for i in range(n):
+        prow[i] = i
+        pcol[i] = i
+        for j in range(n):
+            lu[i, j] = M[i, j]
+            scale = max(scale, abs(M[i, j]))
+    rank = 0
+    for k in range(n):
+        bi = k
+        bj = k
+        best = 0.0
+        for i in range(k, n):
+            for j in range(k, n):
+                if abs(lu[i, j]) > best:
+                    best = abs(lu[i, j])
+                    bi = i
+                    bj = j
+        if best <= tol * scale:
+            break
+        rank += 1
+        _swap(lu, prow, n, k, bi)
+        _swap(lu.T, pcol, n, k, bj)
+        inv = 1.0 / lu[k, k]
+        for i in range(k + 1, n):
+            lu[i, k] *= inv
+            f = lu[i, k]
+            if f != 0.0:
+                for j in range(k + 1, n):
+                    lu[i, j] -= f * lu[k, j]
+    # forward substitution on the first `rank` equations, back substitution, zeros past rank
+    for i in range(rank):
+        s = b[prow[i]]
+        for j in range(i):
+            s -= lu[i, j] * x[pcol[j]]
+        x[pcol[i]] = s
+    for i in range(rank, n):
+        x[pcol[i]] = 0.0
+    for i in range(rank - 1, -1, -1):
+        s = x[pcol[i]]
+        for j in range(i + 1, rank):
+            s -= lu[i, j] * x[pcol[j]]
+        x[pcol[i]] = s / lu[i, i]
+    return rank

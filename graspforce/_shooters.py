@@ -15,10 +15,11 @@ Tolerance: every stopping rule is relative, (h_A(n) - n^T z) <= eps * n^T z, i.e
 import numpy as np
 from numba import njit
 
-from ._corral import drop_point, set_row
+from ._corral import drop_point, reproduce, set_row
 from ._distance import CONVERGED, INSIDE, MAX_ITER, STALLED, gjk, scratch, zc
 from ._kernel import support
 from ._linalg import dot, lstsq, lu_factor, lu_solve, lu_solve_t, smallest
+from ._newton import newton_finish
 
 HIT = 0
 MISS = 1
@@ -28,12 +29,14 @@ FACET = 3   # internal: ZC-based iterations reached a facet the ray crosses (IE 
 ZC_ONLY = 0
 WITH_IE = 1
 UNTIL_FACET = 2
+WITH_NEWTON = 3   # ZC-IE with the Newton finish of graspforce._newton
 
 GJK_BASED = 0
 IE = 1
 ZC_BASED = 2
 BI_GJK = 3
 ZC_IE = 4
+ZC_IE_NEWTON = 5
 
 
 @njit(cache=True)
@@ -102,23 +105,7 @@ def _on_ray(P, k, b, x, tol, sc):
     for j in range(k):
         if x[j] < -tol:
             return False
-    res = 0.0
-    bn = 0.0
-    for i in range(n):
-        e = -b[i]
-        for j in range(k):
-            e += x[j] * P[j, i]
-        res += e * e
-        bn += b[i] * b[i]
-    if res > (1e-12 * (1.0 + np.sqrt(bn))) ** 2:
-        return False
-    s = 0.0
-    for j in range(k):
-        x[j] = max(x[j], 0.0)
-        s += x[j]
-    for j in range(k):
-        x[j] /= s
-    return True
+    return reproduce(P, x, k, b)
 
 
 @njit(cache=True)
@@ -193,6 +180,11 @@ def _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter, nvec, v, point, w
 
 
 REFACTOR = 16   # IE steps between fresh factorizations of the facet matrix
+# "zc-ie-newton" tries the Newton finish (graspforce._newton, docs/core-api.md) once an IE step's
+# relative gap is at most NEWTON_GAP; after a failed try, the next waits for the gap to shrink by
+# NEWTON_RETRY
+NEWTON_GAP = 0.1
+NEWTON_RETRY = 1e-2
 
 
 @njit(cache=True)
@@ -266,7 +258,8 @@ def _restart(P, Wt, lam, k):
 @njit(cache=True)
 def zc_family(ints, floats, r, ws, eps, max_iter, mode):
     """Section 3.3 (ZC-based) and, with mode WITH_IE, section 3.4.2 (ZC-IE): ZC-based
-    iterations, and plain IE steps whenever V_k has n points (a facet the ray crosses inside)."""
+    iterations, and plain IE steps whenever V_k has n points (a facet the ray crosses inside);
+    with mode WITH_NEWTON, ZC-IE with the Newton finish (graspforce._newton)."""
     n = r.shape[0]
     return zc_from(ints, floats, r, ws, eps, max_iter, mode, 0.0, np.empty((n + 2, n)),
                    np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0)
@@ -277,9 +270,10 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
     """ZC-based iterations from b = t r in A, the convex combination lz of Pz[:kz] (t = 0,
     kz = 0: from the origin, which first decides whether the ray meets A; kz = n with WITH_IE: a
     facet the ray crosses, where IE steps start). mode: ZC_ONLY
-    (section 3.3), WITH_IE (ZC-IE, section 3.4.2: plain IE steps while V_k is a facet), or
-    UNTIL_FACET (return FACET with V_k as soon as it is a facet: IE's initialization)."""
-    use_ie = mode == WITH_IE
+    (section 3.3), WITH_IE (ZC-IE, section 3.4.2: plain IE steps while V_k is a facet),
+    WITH_NEWTON (ZC-IE with the Newton finish) or UNTIL_FACET (return FACET with V_k as soon as
+    it is a facet: IE's initialization)."""
+    use_ie = mode == WITH_IE or mode == WITH_NEWTON
     singular = 0
     n = r.shape[0]
     P = np.empty((n + 2, n))
@@ -308,6 +302,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
     # the row of P that the last IE step replaced since Pz last held the facet (-1: unknown)
     changed = -1
     fresh_only = False
+    newton_gap = NEWTON_GAP if mode == WITH_NEWTON else -1.0
     while it < max_iter:
         if use_ie and k == n:
             # IE step on the facet CH(V), columns a_l: hyperplane y^T x = 1, r = sum gam_l a_l.
@@ -386,6 +381,19 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     continue
                 for j in range(n):
                     lam[j] = gam[j] * t
+                gap = h * ny - 1.0
+                if gap <= newton_gap:
+                    # IE's cutting planes have found the exit face's pieces: Newton on them
+                    # (graspforce._newton), the new support point a candidate piece
+                    set_row(P, Wt, n, point, wit)
+                    lam[n] = 0.0
+                    fin = newton_finish(ints, floats, r, eps, P, Wt, lam, n + 1, nvec, t)
+                    it += fin[5]
+                    calls += fin[6]
+                    if fin[0]:
+                        return _result(HIT, fin[1], fin[2], fin[3], it, calls, fin[7], fin[8],
+                                       fin[9], fin[10], fin[4], singular)
+                    newton_gap = gap * NEWTON_RETRY
                 kz = _keep(P, Wt, lam, n, Pz, Wz, lz, changed)
                 # ratio test: the new facet the ray crosses replaces the vertex j*
                 _matvec(B, n, point, alpha)

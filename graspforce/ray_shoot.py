@@ -12,7 +12,7 @@ from .results import RayShot
 from .sets import ConvexSet
 
 METHODS = {"gjk": S.GJK_BASED, "ie": S.IE, "zc": S.ZC_BASED, "bi-gjk": S.BI_GJK,
-           "zc-ie": S.ZC_IE}
+           "zc-ie": S.ZC_IE, "zc-ie-newton": S.ZC_IE_NEWTON}
 _STATUS = {S.HIT: "hit", S.MISS: "miss", S.LIMIT: "max_iter"}
 
 
@@ -37,7 +37,9 @@ def check_tolerances(eps, max_iter):
 def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=1000):
     """Farthest point z_A(r) of A on the ray R(r) = {lambda r : lambda >= 0} (section 2.1).
 
-    method: "gjk" (3.1), "ie" (3.2), "zc" (3.3), "bi-gjk" (3.4.1) or "zc-ie" (3.4.2).
+    method: "gjk" (3.1), "ie" (3.2), "zc" (3.3), "bi-gjk" (3.4.1), "zc-ie" (3.4.2), or
+    "zc-ie-newton": ZC-IE with a Newton finish on the pieces of the exit face
+    (graspforce._newton; fewer iterations, answers exact to rounding).
     eps: relative tolerance; every method stops once (h_A(n) - n^T z) <= eps n^T z, which
     bounds the relative error in t by eps (t_upper / t - 1 <= eps).
     max_iter: iteration limit; reaching it is the status "max_iter", never an exception.

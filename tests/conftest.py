@@ -15,7 +15,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 import graspforce as gf  # noqa: E402
 import truth as T  # noqa: E402
 
-METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie")
+METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie", "zc-ie-newton")
 
 # Relative accuracy demanded of t at the default eps (1e-9): (t_upper - t)/t <= eps by contract.
 T_RTOL = 1e-9

@@ -1,0 +1,376 @@
+"""A second-order finish for ray shooting: Newton's method on the pieces that form the exit face.
+
+Ray shooting is the convex program t* = min { h_A(u) : u^T r = 1 } (z_A(r) = t* r; the facet
+normals of IE are its cutting planes, which is why IE converges only linearly on curved sets).
+Near the answer, h_A is the maximum of the supports h_p of a few smooth pieces (graspforce._piece)
+and the minimum is the root of the KKT system, in u, the piece weights lam_p, t and tau:
+
+    sum_p lam_p s_p(u) + sum_l T_l y_l = t r,   h_p(u) = tau (each p),   T_l^T u = 0 (each l),
+    sum_p lam_p = 1,   u^T r = 1
+
+(the first line is z_A(r) = t r as the convex combination of eq. 2's support points that
+Z_A(r) holds; the second puts every piece's point on one hyperplane with normal u). A flat leaf l
+of piece p (graspforce._piece: a body whose whole face the hyperplane holds, such as a soft
+finger whose friction is not saturated) adds the point T_l x_l, x_l free, through y_l = lam_p x_l,
+and the condition T_l^T u = 0 that makes its face the hyperplane's. The Jacobian of the system
+needs the pieces' curvature J_p = ds_p/du; Newton converges quadratically from the facet that IE's
+cutting planes have brought close. The pieces are read off the witnesses of the facet's vertices
+(a leaf is flat where ||T^T u|| is tiny); a piece whose weight turns negative leaves the system,
+one that the final check finds sticking out joins it, a smooth leaf that meets its kink turns
+flat, and a flat leaf whose point leaves the body turns smooth.
+
+Nothing of Newton's is trusted: the answer certifies itself as every other one does. The points
+s_p(u) are points of A, so their convex combination z (weights re-solved by least squares on the
+final points) is in A and lies on the ray to rounding (the rule of Fig. 3b's `_on_ray`); one call
+of the full support map at u gives the hyperplane H(u, s_A(u)) that bounds z_A(r) from outside.
+When the bracket is wider than eps, or the system is singular (a polytope face with fewer than
+n vertices, a flat face whose normal sits on a piece's kink), the finish fails and IE goes on.
+"""
+import numpy as np
+from numba import njit
+
+from ._kernel import ELLIPSOID, HULL, blocks, support
+from ._corral import reproduce
+from ._linalg import dot, lstsq, lu_factor, lu_solve, smallest, solve_basic
+from ._piece import (FLAT, KINK, TRUNCATED_CONE, flat_columns, flat_radius2, jacobian_size,
+                     piece_support, same_piece)
+
+NEWTON_STEPS = 12      # Newton steps of one attempt, over all changes of the piece set
+STEP_TOL = 1e-7        # ||du|| <= STEP_TOL ||u||: one more step leaves an error far below eps
+FLAT_RHO = 1e-3        # ||T^T u|| <= FLAT_RHO ||T|| ||u|| on the facet's normal: the leaf is flat
+FLAT_SPREAD = 0.5      # or its facet vertices' mean local point is this far inside (squared)
+MAX_CHANGES = 6        # changes of the piece set in one attempt
+
+
+@njit(cache=True)
+def _flats(ints, f, PW, lam, m, T, y, fpiece, fleaf, foff, fq, C, C2):
+    """The flat leaves of the pieces: their piece, node, offset in y and size; T's columns and
+    y = lam_p x. Returns (count, entries of y); count -1 when T has no room for them."""
+    nn = ints[0]
+    KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
+        blocks(nn)
+    nf = 0
+    ny = 0
+    for p in range(m):
+        for i in range(nn):
+            if ints[KIND + i] >= HULL:
+                continue
+            w = ints[WSTART + i]
+            if PW[p, w] != FLAT:
+                continue
+            q = flat_columns(ints, f, i, T, ny, C, C2)
+            if q < 0:
+                return -1, ny
+            for b in range(q):
+                y[ny + b] = lam[p] * PW[p, w + 1 + b]
+            fpiece[nf] = p
+            fleaf[nf] = i
+            foff[nf] = ny
+            fq[nf] = q
+            nf += 1
+            ny += q
+    return nf, ny
+
+
+@njit(cache=True)
+def _mark_flat(ints, f, PW, p, leaf, x):
+    """Turn a leaf of piece p flat with local point x (a disk keeps its side)."""
+    nn = ints[0]
+    KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
+        blocks(nn)
+    w = ints[WSTART + leaf]
+    PW[p, w] = FLAT
+    q = int(f[ints[PSTART + leaf] + 1]) if ints[KIND + leaf] == ELLIPSOID else 2
+    for b in range(q):
+        PW[p, w + 1 + b] = x[b]
+
+
+@njit(cache=True)
+def _solve_kkt(r, u, t, tau, lam, S, JJ, hs, m, T, y, nf, ny, fpiece, foff, fq, sm, K, lu, prow,
+               pcol, rhs, dx):
+    """One Newton step of the KKT system (module docstring) into dx = (du, dlam, dy, dt, dtau),
+    by LU with partial pivoting, or a basic solution (complete pivoting) where the weights are
+    not unique (two flat leaves that share a direction: two fingers on one face whose friction
+    split is free). sm: (m, n) work for the pieces' smooth
+    parts."""
+    n = r.shape[0]
+    N = n + m + ny + 2
+    it = n + m + ny
+    for i in range(N):
+        rhs[i] = 0.0
+        for j in range(N):
+            K[i, j] = 0.0
+    # the smooth part s_p of each piece's point: S_p less its flat leaves' T x
+    for p in range(m):
+        for i in range(n):
+            sm[p, i] = S[p, i]
+    for e in range(nf):
+        p = fpiece[e]
+        if lam[p] != 0.0:
+            for b in range(fq[e]):
+                xb = y[foff[e] + b] / lam[p]
+                for i in range(n):
+                    sm[p, i] -= T[i, foff[e] + b] * xb
+    for i in range(n):
+        F = -t * r[i]
+        for p in range(m):
+            F += lam[p] * S[p, i]
+            for b in range(n):
+                K[i, b] += lam[p] * JJ[p, i, b]
+            K[i, n + p] = sm[p, i]
+        for c in range(ny):
+            K[i, n + m + c] = T[i, c]
+        K[i, it] = -r[i]
+        rhs[i] = -F
+    for p in range(m):
+        for b in range(n):
+            K[n + p, b] = sm[p, b]
+        K[n + p, it + 1] = -1.0
+        rhs[n + p] = tau - dot(u, sm[p])
+    row = n + m
+    for c in range(ny):
+        s = 0.0
+        for b in range(n):
+            K[row, b] = T[b, c]
+            s += T[b, c] * u[b]
+        rhs[row] = -s
+        row += 1
+    total = 0.0
+    for p in range(m):
+        K[row, n + p] = 1.0
+        total += lam[p]
+    rhs[row] = 1.0 - total
+    for b in range(n):
+        K[row + 1, b] = r[b]
+    rhs[row + 1] = 1.0 - dot(u, r)
+    if lu_factor(K, N, lu, prow):
+        lu_solve(lu, prow, N, rhs, dx)
+        return True
+    return solve_basic(K, N, lu, prow, pcol, rhs, dx) > n
+
+
+@njit(cache=True)
+def _drop(PW, lam, m, p):
+    for q in range(p, m - 1):
+        for a in range(PW.shape[1]):
+            PW[q, a] = PW[q + 1, a]
+        lam[q] = lam[q + 1]
+    return m - 1
+
+
+@njit(cache=True)
+def _weights_on_ray(S, m, r, x, D, work, wrhs, rhs):
+    """Weights x[:m] (summing to 1) and t (returned) of the point of CH(S[:m]) nearest the ray,
+    by least squares: S_0 + sum_p x_p (S_p - S_0) = t r. -1 when rank deficient."""
+    n = r.shape[0]
+    for i in range(n):
+        for p in range(1, m):
+            D[i, p - 1] = S[p, i] - S[0, i]
+        D[i, m - 1] = -r[i]
+        rhs[i] = -S[0, i]
+    if not lstsq(D, n, m, rhs, x, 1, work, wrhs):
+        return -1.0
+    t = x[m]
+    x[0] = 1.0
+    for p in range(1, m):
+        x[0] -= x[p]
+    return t
+
+
+@njit(cache=True)
+def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
+    """Try to finish a shot from the simplex P[:k] (witnesses Wt, weights lam: t r is their
+    convex combination or near it) and the normal of its facet. Returns (ok, t, t_upper, h_n,
+    m, newton_steps, support_calls, normal, V, weights, W): on ok, z = t r is the convex
+    combination `weights` of V[:m] (points of A, witnesses W), within rounding of the ray, and
+    H(normal, h_n) supports A with (t_upper - t) <= eps t."""
+    n = r.shape[0]
+    ws = Wt.shape[1]
+    nn = ints[0]
+    KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
+        blocks(nn)
+    cap = k + 3
+    PW = np.empty((cap, ws))
+    S = np.empty((cap, n))
+    WS = np.empty((cap, ws))
+    JJ = np.empty((cap, n, n))
+    sm = np.empty((cap, n))
+    hs = np.empty(cap)
+    lm = np.empty(cap)
+    size, nmax, qmax = jacobian_size(ints, f)
+    ycap = 2 * n + 2
+    T = np.empty((n, ycap))
+    y = np.empty(ycap)
+    fpiece = np.empty(ycap, np.int64)
+    fleaf = np.empty(ycap, np.int64)
+    foff = np.empty(ycap, np.int64)
+    fq = np.empty(ycap, np.int64)
+    C = np.empty((nmax, qmax))
+    C2 = np.empty((nmax, qmax))
+    N = n + cap + ycap + 2
+    K = np.empty((N, N))
+    lu = np.empty((N, N))
+    prow = np.empty(N, np.int64)
+    pcol = np.empty(N, np.int64)
+    rhs = np.empty(N)
+    dx = np.empty(N)
+    jw = np.empty(size)
+    u = np.empty(n)
+    point = np.empty(n)
+    wit = np.empty(ws)
+    nrm = np.empty(n)
+    xbar = np.zeros(qmax)
+    steps = 0
+    calls = 0
+    fail = (False, t, np.inf, 0.0, 0, steps, calls, nrm, S, lm, WS)
+    nr = dot(normal, r)
+    if nr <= 0.0:
+        return fail
+    for i in range(n):
+        u[i] = normal[i] / nr
+    # the pieces of the simplex, each weighted by the sum of its vertices' weights
+    m = 0
+    for j in range(k):
+        found = -1
+        for p in range(m):
+            if same_piece(ints, Wt[j], PW[p]):
+                found = p
+                break
+        if found < 0:
+            PW[m] = Wt[j]
+            lm[m] = lam[j]
+            m += 1
+        else:
+            lm[found] += lam[j]
+    # flat leaves: the facet's normal nearly annihilates T, or the facet's vertices spread over
+    # the body (a smooth piece's crowd together); x starts at their weighted mean
+    un = np.sqrt(dot(u, u))
+    for p in range(m):
+        for i in range(nn):
+            kind = ints[KIND + i]
+            if kind != ELLIPSOID and kind != TRUNCATED_CONE:
+                continue
+            w = ints[WSTART + i]
+            if PW[p, w] == 0.0:
+                continue
+            q = flat_columns(ints, f, i, T, 0, C, C2)
+            if q < 0:
+                continue
+            tu = 0.0
+            tt = 0.0
+            for b in range(q):
+                s = 0.0
+                for a in range(n):
+                    s += T[a, b] * u[a]
+                    tt += T[a, b] * T[a, b]
+                tu += s * s
+            wsum = 0.0
+            for b in range(q):
+                xbar[b] = 0.0
+            for j in range(k):
+                if same_piece(ints, Wt[j], PW[p]):
+                    wsum += lam[j]
+                    for b in range(q):
+                        xbar[b] += lam[j] * Wt[j, w + 1 + b]
+            for b in range(q):
+                xbar[b] = xbar[b] / wsum if wsum > 0.0 else 0.0
+            PW[p, w + 1:w + 1 + q] = xbar[:q]
+            if tu <= (FLAT_RHO * un) ** 2 * tt or flat_radius2(ints, f, i, PW[p]) < FLAT_SPREAD:
+                _mark_flat(ints, f, PW, p, i, xbar)
+    nf, ny = _flats(ints, f, PW, lm, m, T, y, fpiece, fleaf, foff, fq, C, C2)
+    tau = t
+    changes = 0
+    converged = False
+    while steps < NEWTON_STEPS:
+        if m < 1 or m > n or nf < 0 or n + m + ny + 2 > N or changes > MAX_CHANGES:
+            return fail
+        kinked = False
+        for p in range(m):
+            hs[p] = piece_support(ints, f, u, PW[p], S[p], WS[p], JJ[p], jw, nmax)
+            if hs[p] != hs[p]:
+                # a smooth leaf at its kink: its whole body is in the face, it turns flat
+                for i in range(nn):
+                    if ints[KIND + i] < HULL and WS[p, ints[WSTART + i]] == KINK:
+                        for b in range(qmax):
+                            xbar[b] = 0.0
+                        _mark_flat(ints, f, PW, p, i, xbar)
+                kinked = True
+        if kinked:
+            nf, ny = _flats(ints, f, PW, lm, m, T, y, fpiece, fleaf, foff, fq, C, C2)
+            changes += 1
+            continue
+        if steps > 0 and converged:
+            # certify: flat points inside their bodies, weights on the ray, the full support
+            outside = -1
+            for e in range(nf):
+                if flat_radius2(ints, f, fleaf[e], PW[fpiece[e]]) > 1.0 + 1e-12:
+                    outside = e
+            if outside >= 0:
+                PW[fpiece[outside], ints[WSTART + fleaf[outside]]] = 1.0
+                nf, ny = _flats(ints, f, PW, lm, m, T, y, fpiece, fleaf, foff, fq, C, C2)
+                changes += 1
+                converged = False
+                continue
+            tz = _weights_on_ray(S, m, r, lm, K, lu, dx, rhs)
+            if tz <= 0.0 or smallest(lm, m) < -1e-12:
+                return fail
+            for i in range(n):
+                point[i] = tz * r[i]
+            if not reproduce(S, lm, m, point):
+                return fail
+            un = np.sqrt(dot(u, u))
+            if not dot(u, r) > 0.0:
+                return fail
+            for i in range(n):
+                nrm[i] = u[i] / un
+            h_full = support(ints, f, nrm, point, wit)
+            calls += 1
+            t_up = h_full / dot(nrm, r)
+            if t_up - tz <= eps * tz and t_up >= tz * (1.0 - 1e-12):
+                return (True, tz, max(t_up, tz), h_full, m, steps, calls, nrm, S, lm, WS)
+            # a piece the system did not hold sticks out at u: it joins with weight 0
+            for p in range(m):
+                if same_piece(ints, wit, PW[p]):
+                    return (False, t, t_up, h_full, 0, steps, calls, nrm, S, lm, WS)
+            if m == n:
+                return (False, t, t_up, h_full, 0, steps, calls, nrm, S, lm, WS)
+            PW[m] = wit
+            lm[m] = 0.0
+            m += 1
+            changes += 1
+            converged = False
+            continue
+        if not _solve_kkt(r, u, t, tau, lm, S, JJ, hs, m, T, y, nf, ny, fpiece, foff, fq, sm,
+                          K, lu, prow, pcol, rhs, dx):
+            return fail
+        steps += 1
+        du = 0.0
+        for i in range(n):
+            u[i] += dx[i]
+            du = max(du, abs(dx[i]))
+        un = 0.0
+        for i in range(n):
+            un = max(un, abs(u[i]))
+        worst = -1
+        for p in range(m):
+            lm[p] += dx[n + p]
+            if lm[p] <= 0.0 and (worst < 0 or lm[p] < lm[worst]):
+                worst = p
+        for c in range(ny):
+            y[c] += dx[n + m + c]
+        t += dx[n + m + ny]
+        tau += dx[n + m + ny + 1]
+        if worst >= 0:
+            # not a piece of the exit face: its weight would be negative (or is zero: the
+            # basic solution left it out)
+            m = _drop(PW, lm, m, worst)
+            nf, ny = _flats(ints, f, PW, lm, m, T, y, fpiece, fleaf, foff, fq, C, C2)
+            changes += 1
+            converged = False
+            continue
+        for e in range(nf):
+            w = ints[WSTART + fleaf[e]]
+            for b in range(fq[e]):
+                PW[fpiece[e], w + 1 + b] = y[foff[e] + b] / lm[fpiece[e]]
+        converged = du <= STEP_TOL * un
+    return fail

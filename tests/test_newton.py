@@ -1,0 +1,183 @@
+"""The second-order finish of ZC-IE (graspforce._piece, graspforce._newton): the pieces' supports
+and curvature against finite differences, the rank-revealing KKT solve against numpy, and the
+finish itself against closed forms and SOCPs on the cases it was built for: smooth exits (a
+growth rim contact), flat pieces (soft fingers whose friction is not saturated, an ellipsoid on a
+cone's base), and two flat pieces sharing a direction (two fingers on one face)."""
+import numpy as np
+import pytest
+
+import graspforce as gf
+from graspforce._kernel import support
+from graspforce._linalg import solve_basic
+from graspforce._newton import newton_finish
+from graspforce._piece import (FLAT, flat_columns, jacobian_size, piece_support, same_piece)
+
+import truth as T
+from conftest import random_rotation
+
+
+def _sets(rng):
+    R = random_rotation(rng, 3)
+    return [
+        gf.hull(*[gf.Ellipsoid(rng.normal(size=6), rng.normal(size=(6, 3))) for _ in range(4)]),
+        gf.minkowski_sum(gf.pose(gf.Ellipsoid(np.zeros(3), np.diag([0.1, 0.2, 0.3])), R,
+                                 np.zeros(3)),
+                         -gf.pose(gf.TruncatedCone(0.1, 0.05, 0.2), R.T, np.zeros(3))),
+        gf.affine(rng.normal(size=(6, 4)), gf.ConeCap(0.5, 4)),
+        gf.minkowski_sum(gf.Polytope(rng.normal(size=(8, 3))), gf.Capsule(0.2, 0.5)),
+        gf.Box([1.0, 2.0, 3.0], rng.normal(size=3), R),
+    ]
+
+
+def _piece(A, u, pw):
+    ints, f = A.program
+    size, nmax, _ = jacobian_size(ints, f)
+    n = A.dim
+    point, wit, J = np.empty(n), np.empty(A.witness_size), np.empty((n, n))
+    h = piece_support(ints, f, np.asarray(u, float), pw, point, wit, J, np.empty(size), nmax)
+    return h, point, wit, J
+
+
+@pytest.mark.parametrize("which", range(5))
+def test_piece_support_is_the_support_and_its_jacobian_the_derivative(which):
+    rng = np.random.default_rng(which)
+    A = _sets(rng)[which]
+    ints, f = A.program
+    n = A.dim
+    for _ in range(20):
+        u = rng.normal(size=n)
+        point, wit = np.empty(n), np.empty(A.witness_size)
+        h = support(ints, f, u, point, wit)
+        hp, p, w2, J = _piece(A, u, wit)
+        # on its own piece, the piece's support is the set's, with the same witness
+        assert abs(hp - h) <= 1e-12 * (1 + abs(h))
+        assert np.allclose(p, point, atol=1e-12)
+        assert same_piece(ints, wit, w2)
+        assert np.allclose(J, J.T, atol=1e-12)
+        assert np.linalg.norm(J @ u) <= 1e-9 * (1 + np.abs(J).max()) * np.linalg.norm(u)
+        d = 1e-6
+        fd = np.column_stack([(_piece(A, u + d * e, wit)[1] - _piece(A, u - d * e, wit)[1])
+                              / (2 * d) for e in np.eye(n)])
+        assert np.abs(J - fd).max() <= 1e-6 * (1 + np.abs(J).max())
+
+
+def test_flat_leaf_moves_along_its_columns():
+    rng = np.random.default_rng(7)
+    R = random_rotation(rng, 3)
+    E = gf.pose(gf.Ellipsoid(np.zeros(3), np.diag([0.1, 0.2, 0.3])), R, np.zeros(3))
+    A = gf.minkowski_sum(E, -gf.pose(gf.TruncatedCone(0.1, 0.05, 0.2), R.T, np.zeros(3)))
+    ints, f = A.program
+    size, nmax, qmax = jacobian_size(ints, f)
+    cone = next(i for i in range(ints[0]) if ints[1 + i] == 3)
+    w = ints[1 + 5 * ints[0] + cone]
+    u = rng.normal(size=3)
+    point, wit = np.empty(3), np.empty(A.witness_size)
+    support(ints, f, u, point, wit)
+    wit[w] = FLAT
+    wit[w + 1:w + 3] = [0.01, -0.02]
+    T_ = np.empty((3, 2))
+    assert flat_columns(ints, f, cone, T_, 0, np.empty((nmax, qmax)), np.empty((nmax, qmax))) == 2
+    h0, p0, w0, J = _piece(A, u, wit)
+    for b in range(2):
+        moved = wit.copy()
+        moved[w + 1 + b] += 0.003
+        assert np.allclose(_piece(A, u, moved)[1] - p0, 0.003 * T_[:, b], atol=1e-14)
+    # the flat leaf adds no curvature, and its witness says where on the disk the point is
+    assert w0[w] == 1.0 and np.allclose(w0[w + 1:w + 3], [0.01, -0.02])
+    assert np.allclose(A.witness_point(A.decode_witness(w0)), p0, atol=1e-14)
+    we = np.empty(E.witness_size)
+    support(*E.program, u, np.empty(3), we)
+    assert np.allclose(J, _piece(E, u, we)[3], atol=1e-14)
+
+
+@pytest.mark.parametrize("deficient", [0, 1, 3])
+def test_solve_basic_solves_consistent_rank_deficient_systems(deficient):
+    rng = np.random.default_rng(deficient)
+    n = 9
+    M = rng.normal(size=(n, n))
+    for j in range(deficient):
+        M[:, n - 1 - j] = M[:, :3] @ rng.normal(size=3)      # dependent columns
+        M[n - 1 - j, :] = rng.normal(size=n - 1 - j) @ M[:n - 1 - j, :]   # dependent rows
+    b = M @ rng.normal(size=n)                                 # consistent
+    x = np.empty(n)
+    rank = solve_basic(M.copy(), n, np.empty((n, n)), np.empty(n, np.int64),
+                       np.empty(n, np.int64), b, x)
+    assert rank == np.linalg.matrix_rank(M)
+    assert np.linalg.norm(M @ x - b) <= 1e-10 * np.linalg.norm(b)
+    if deficient == 0:
+        assert np.allclose(x, np.linalg.solve(M, b))
+
+
+def _finish(A, r, loose):
+    """The Newton finish started from the facet of an IE shot stopped at a loose eps."""
+    res = gf.ray_shoot(A, r, method="ie", eps=loose)
+    c = np.ascontiguousarray
+    out = newton_finish(*A.program, c(r, float), 1e-9, c(res.vertices), c(res.witness_rows),
+                        c(res.weights), len(res.weights), c(res.normal), res.t)
+    return out
+
+
+def _check_certificate(A, r, out, t_true):
+    ok, t, t_up, h, m, steps, calls, normal, V, lam, W = out
+    assert ok
+    V, lam, W = V[:m], lam[:m], W[:m]
+    assert abs(t - t_true) <= 1e-9 * t_true
+    assert t <= t_up and (t_up - t) <= 1e-9 * t
+    assert np.all(lam >= 0) and abs(lam.sum() - 1) <= 1e-12
+    assert np.linalg.norm(lam @ V - t * r) <= 1e-11 * (1 + np.linalg.norm(t * r))
+    ints, f = A.program
+    hh = support(ints, f, normal, np.empty(A.dim), np.empty(A.witness_size))
+    assert abs(hh - h) <= 1e-12 * (1 + abs(h)) and abs(t_up - h / (normal @ r)) <= 1e-12 * t_up
+    for v, w in zip(V, W):
+        assert np.allclose(A.witness_point(A.decode_witness(w)), v, atol=1e-12)
+    return m
+
+
+def test_finish_on_soft_fingers_with_unsaturated_friction():
+    """4 soft fingers: most minimum-force answers leave some contact's friction inside its
+    cone, the whole ellipse W_i then lies in the exit face (a flat piece). Truth: SOCP."""
+    from benchmarks.grasp_sets import ingot_ellipsoids, random_wrenches
+    E = ingot_ellipsoids()
+    A = gf.hull(*[gf.Ellipsoid(c, S) for c, S in E])
+    desc = T.hull(*[T.ell(c, S) for c, S in E])
+    finished = 0
+    for w in random_wrenches(20, seed=11):
+        r = -w
+        hit, t_true = T.ray_shoot_socp(desc, r)[:2]
+        assert hit
+        t_ref = gf.ray_shoot(A, r, method="ie", eps=1e-12).t   # the SOCP is good to ~1e-8
+        assert abs(t_ref - t_true) <= 1e-7 * t_true
+        out = _finish(A, r, 1e-3)
+        if out[0]:
+            _check_certificate(A, r, out, t_ref)
+            finished += 1
+    assert finished >= 17
+
+
+@pytest.mark.parametrize("case", ["side", "rim", "base"])
+def test_finish_on_the_growth_protocol(case):
+    """Ellipsoid touching a truncated cone (growth protocol): g = 1, i.e. the ray r = p_B - p_A
+    leaves Delta at z = r, t = 1 (eq. 10). Rim: one smooth piece; side: the two disks; base: the
+    disk flat (the ellipsoid rests on the whole base)."""
+    from benchmarks.growth_sets import protocol_pairs
+    for p in protocol_pairs(20, seed=3, cases=(case,)):
+        A = gf.minkowski_sum(gf.pose(gf.Ellipsoid(np.zeros(3), np.diag(p["axes"])), p["R_e"],
+                                     np.zeros(3)),
+                             -gf.pose(gf.TruncatedCone(p["rb"], p["rt"], p["h"]), p["R_c"],
+                                      np.zeros(3)))
+        r = p["p_c"] - p["p_e"]
+        out = _finish(A, r, 1e-2)
+        _check_certificate(A, r, out, 1.0)
+
+
+def test_finish_with_two_flat_pieces_sharing_a_direction():
+    """Two fingers side by side on one face, both well inside friction: their flat pieces share
+    the spin direction [0; n], so the KKT system is singular and its weights are not unique."""
+    n_ = np.array([0.0, 0.0, 1.0])
+    contacts = [gf.Contact([x, y, -0.05], n_, 0.8, 0.05) for x, y in [(0.02, 0.0), (-0.02, 0.0)]]
+    contacts += [gf.Contact([0.05, 0.0, 0.0], [-1.0, 0.0, 0.0], 0.8, 0.05),
+                 gf.Contact([-0.05, 0.0, 0.0], [1.0, 0.0, 0.0], 0.8, 0.05)]
+    A = gf.Grasp(contacts).wrench_set("L1")
+    r = -np.array([0.1, 0.05, -3.0, 0.0, 0.0, 0.0])
+    t_ref = gf.ray_shoot(A, r, method="ie", eps=1e-12).t
+    _check_certificate(A, r, _finish(A, r, 1e-2), t_ref)
