@@ -276,8 +276,8 @@ def support(ints, f, u, point, wit):
     """h_A(u) (returned) and s_A(u) (into `point`) of eq. (2); the witness goes into `wit`.
 
     The blocks of `ints` are those of BLOCKS, at the offsets `blocks(nn)`. Node i reads its
-    direction at
-    f[dstart:], writes its point to f[ostart:ostart + dim] and its value to f[ostart + dim].
+    direction at f[dstart:], writes its point to f[ostart:ostart + dim] and its value to
+    f[ostart + dim].
     """
     nn = ints[0]
     KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \

@@ -178,6 +178,12 @@ def _weights_on_ray(S, m, r, x, D, work, wrhs, rhs):
 
 
 @njit(cache=True)
+def _failed(t, t_up, h, steps, calls, nrm, S, lm, WS):
+    """newton_finish's answer when it gives up: the steps and support calls it spent."""
+    return (False, t, t_up, h, 0, steps, calls, nrm, S, lm, WS)
+
+
+@njit(cache=True)
 def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
     """Try to finish a shot from the simplex P[:k] (witnesses Wt, weights lam: t r is their
     convex combination or near it) and the normal of its facet. Returns (ok, t, t_upper, h_n,
@@ -222,10 +228,9 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
     xbar = np.zeros(qmax)
     steps = 0
     calls = 0
-    fail = (False, t, np.inf, 0.0, 0, steps, calls, nrm, S, lm, WS)
     nr = dot(normal, r)
     if nr <= 0.0:
-        return fail
+        return _failed(t, np.inf, 0.0, steps, calls, nrm, S, lm, WS)
     for i in range(n):
         u[i] = normal[i] / nr
     # the pieces of the simplex, each weighted by the sum of its vertices' weights
@@ -283,7 +288,7 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
     converged = False
     while steps < NEWTON_STEPS:
         if m < 1 or m > n or nf < 0 or n + m + ny + 2 > N or changes > MAX_CHANGES:
-            return fail
+            return _failed(t, np.inf, 0.0, steps, calls, nrm, S, lm, WS)
         kinked = False
         for p in range(m):
             hs[p] = piece_support(ints, f, u, PW[p], S[p], WS[p], JJ[p], jw, nmax)
@@ -313,14 +318,14 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
                 continue
             tz = _weights_on_ray(S, m, r, lm, K, lu, dx, rhs)
             if tz <= 0.0 or smallest(lm, m) < -1e-12:
-                return fail
+                return _failed(t, np.inf, 0.0, steps, calls, nrm, S, lm, WS)
             for i in range(n):
                 point[i] = tz * r[i]
             if not reproduce(S, lm, m, point):
-                return fail
+                return _failed(t, np.inf, 0.0, steps, calls, nrm, S, lm, WS)
             un = np.sqrt(dot(u, u))
             if not dot(u, r) > 0.0:
-                return fail
+                return _failed(t, np.inf, 0.0, steps, calls, nrm, S, lm, WS)
             for i in range(n):
                 nrm[i] = u[i] / un
             h_full = support(ints, f, nrm, point, wit)
@@ -331,9 +336,9 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
             # a piece the system did not hold sticks out at u: it joins with weight 0
             for p in range(m):
                 if same_piece(ints, wit, PW[p]):
-                    return (False, t, t_up, h_full, 0, steps, calls, nrm, S, lm, WS)
+                    return _failed(t, t_up, h_full, steps, calls, nrm, S, lm, WS)
             if m == n:
-                return (False, t, t_up, h_full, 0, steps, calls, nrm, S, lm, WS)
+                return _failed(t, t_up, h_full, steps, calls, nrm, S, lm, WS)
             PW[m] = wit
             lm[m] = 0.0
             m += 1
@@ -342,7 +347,7 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
             continue
         if not _solve_kkt(r, u, t, tau, lm, S, JJ, hs, m, T, y, nf, ny, fpiece, foff, fq, sm,
                           K, lu, prow, pcol, rhs, dx):
-            return fail
+            return _failed(t, np.inf, 0.0, steps, calls, nrm, S, lm, WS)
         steps += 1
         du = 0.0
         for i in range(n):
@@ -373,4 +378,4 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
             for b in range(fq[e]):
                 PW[fpiece[e], w + 1 + b] = y[foff[e] + b] / lm[fpiece[e]]
         converged = du <= STEP_TOL * un
-    return fail
+    return _failed(t, np.inf, 0.0, steps, calls, nrm, S, lm, WS)

@@ -181,3 +181,24 @@ def test_finish_with_two_flat_pieces_sharing_a_direction():
     r = -np.array([0.1, 0.05, -3.0, 0.0, 0.0, 0.0])
     t_ref = gf.ray_shoot(A, r, method="ie", eps=1e-12).t
     _check_certificate(A, r, _finish(A, r, 1e-2), t_ref)
+
+
+@pytest.mark.parametrize("case", ["side", "rim", "base"])
+def test_zc_ie_newton_growth_is_exact_and_needs_fewer_support_calls(case):
+    """Through the public API: on touching pairs (truth g = 1, scaled by 2: g = 2 and 0.5) the
+    finished answer is exact to rounding, where ZC-IE stops at its eps, and it takes a fraction
+    of ZC-IE's support calls (counted, not timed)."""
+    from benchmarks.growth_sets import protocol_pairs
+    calls = {"zc-ie": [], "zc-ie-newton": []}
+    for p in protocol_pairs(15, seed=9, cases=(case,)):
+        for scale, truth in [(1.0, 1.0), (0.5, 2.0), (2.0, 0.5)]:
+            A = gf.Ellipsoid(np.zeros(3), np.diag(p["axes"] * scale))
+            B = gf.TruncatedCone(p["rb"] * scale, p["rt"] * scale, p["h"] * scale)
+            for method in calls:
+                res = gf.growth_distance(A, (p["R_e"], p["p_e"]), B, (p["R_c"], p["p_c"]),
+                                         method=method)
+                assert abs(res.sigma - truth) <= (1e-12 if method == "zc-ie-newton" else 1e-8)
+                gap = np.linalg.norm(res.point_a - res.point_b)
+                assert gap <= 0.5e-9 * np.linalg.norm(p["p_c"] - p["p_e"])
+                calls[method].append(res.support_calls)
+    assert np.median(calls["zc-ie-newton"]) <= 0.6 * np.median(calls["zc-ie"])
