@@ -119,15 +119,20 @@ def _leaf_value(k, f, p, d, o, wit, w):
         rad = rb
         z = -hz
         h = h_bot
-    x = rad * ux / q if q > 0.0 else 0.0
-    y = rad * uy / q if q > 0.0 else 0.0
+    disk_point(f, o, wit, w, rad * ux / q if q > 0.0 else 0.0,
+               rad * uy / q if q > 0.0 else 0.0, z)
+    return h
+
+
+@njit(cache=True, inline='always')
+def disk_point(f, o, wit, w, x, y, z):
+    """A truncated cone's point (x, y, z) in its frame, to f[o:o + 3] and its witness slot."""
     f[o] = x
     f[o + 1] = y
     f[o + 2] = z
     wit[w + 1] = x
     wit[w + 2] = y
     wit[w + 3] = z
-    return h
 
 
 def _ellipsoid_of(fixed_n, fixed_k):
@@ -221,6 +226,18 @@ def _leaf_point(k, f, p, o, wit, w):
             _ellipsoid_point(f, p, o, wit, w, n, kk)
 
 
+@njit(cache=True, inline='always')
+def cap_direction(f, p, d):
+    """(n, mu, y_1, ||y_perp||^2, ||y_perp||, ||y||) of a cone cap's direction y at f[d:] (its
+    parameters n, mu at f[p:])."""
+    n = int(f[p])
+    y1 = f[d]
+    q2 = 0.0
+    for a in range(1, n):
+        q2 += f[d + a] * f[d + a]
+    return n, f[p + 1], y1, q2, np.sqrt(q2), np.sqrt(y1 * y1 + q2)
+
+
 @njit(cache=True)
 def _cone_cap_support(f, p, d, o, wit, w):
     """Support of the unit vectors g of the circular cone K = {||g_2:n|| <= mu g_1}.
@@ -233,14 +250,7 @@ def _cone_cap_support(f, p, d, o, wit, w):
     y in the polar cone. Where positive it equals ||Pi_K(y)||, the support of K cut by the unit
     ball (NOTES.md item 3).
     """
-    n = int(f[p])
-    mu = f[p + 1]
-    y1 = f[d]
-    q2 = 0.0
-    for a in range(1, n):
-        q2 += f[d + a] * f[d + a]
-    q = np.sqrt(q2)
-    ny = np.sqrt(y1 * y1 + q2)
+    n, mu, y1, q2, q, ny = cap_direction(f, p, d)
     if y1 >= 0.0 and q <= mu * y1:
         # y in K: the cap's point is y itself, normalized (e_1 for y = 0). The sign test is
         # not redundant: with mu = 0 and q = 0, q <= mu y1 holds for y1 < 0 too (0 <= -0.0)

@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 from ._kernel import (AFFINE, BOX, CONE_CAP, ELLIPSOID, HULL, POLYTOPE, SUM, _affine_pull,
-                      blocks)
+                      _cone_cap_support, blocks, cap_direction, disk_point)
 
 KINK_TOL = 1e-9   # ||S^T u|| <= KINK_TOL ||S|| ||u||: the piece's support is not smooth there
 FLAT = 2.0        # witness flag of a flat leaf (module docstring)
@@ -149,58 +149,36 @@ def _disk_piece(f, p, d, o, wit, w, J, j0, top):
         J[j0 + 1] = -c * px * py
         J[j0 + 3] = -c * px * py
         J[j0 + 4] = c * (1.0 - py * py)
-        x = rad * px
-        y = rad * py
+        disk_point(f, o, wit, w, rad * px, rad * py, z)
     else:
-        x = 0.0
-        y = 0.0
-    f[o] = x
-    f[o + 1] = y
-    f[o + 2] = z
-    wit[w + 1] = x
-    wit[w + 2] = y
-    wit[w + 3] = z
+        disk_point(f, o, wit, w, 0.0, 0.0, z)
     return rad * q + z * uz
 
 
 @njit(cache=True, inline='always')
 def _cap_piece(f, p, d, o, wit, w, J, j0):
-    """Cone cap (graspforce._kernel._cone_cap_support): C^1 across the cone's boundary, so one
-    piece; its Jacobian is that of the side the direction lies on."""
-    n = int(f[p])
-    mu = f[p + 1]
-    y1 = f[d]
-    q2 = 0.0
-    for a in range(1, n):
-        q2 += f[d + a] * f[d + a]
-    q = np.sqrt(q2)
-    ny = np.sqrt(y1 * y1 + q2)
+    """Cone cap: its point from the kernel (`_kernel._cone_cap_support`), its curvature here. C^1
+    across the cone's boundary, so one piece; J is that of the side the direction lies on:
+    (I - s s^T) / ||y|| inside K (s = y / ||y||), sin(beta) (I - e e^T) / ||y_perp|| on the
+    components 2..n outside (e = y_perp / ||y_perp||, the rim's circle)."""
+    h = _cone_cap_support(f, p, d, o, wit, w)
+    n, mu, y1, q2, q, ny = cap_direction(f, p, d)
     for a in range(n * n):
         J[j0 + a] = 0.0
     if y1 >= 0.0 and q <= mu * y1:
         if ny == 0.0:
             return np.nan
         for a in range(n):
-            f[o + a] = f[d + a] / ny
-        for a in range(n):
             for b in range(n):
                 J[j0 + a * n + b] = ((1.0 if a == b else 0.0) - f[o + a] * f[o + b]) / ny
-        h = ny
     else:
         if q <= KINK_TOL * ny:
             return np.nan
-        cb = 1.0 / np.sqrt(1.0 + mu * mu)
-        sb = mu * cb
-        f[o] = cb
-        for a in range(1, n):
-            f[o + a] = sb * f[d + a] / q
+        sb = mu / np.sqrt(1.0 + mu * mu)
         for a in range(1, n):
             for b in range(1, n):
                 J[j0 + a * n + b] = sb * ((1.0 if a == b else 0.0)
                                           - f[d + a] * f[d + b] / q2) / q
-        h = y1 * cb + q * sb
-    for a in range(n):
-        wit[w + 1 + a] = f[o + a]
     return h
 
 
