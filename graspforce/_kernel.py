@@ -119,20 +119,15 @@ def _leaf_value(k, f, p, d, o, wit, w):
         rad = rb
         z = -hz
         h = h_bot
-    disk_point(f, o, wit, w, rad * ux / q if q > 0.0 else 0.0,
-               rad * uy / q if q > 0.0 else 0.0, z)
-    return h
-
-
-@njit(cache=True, inline='always')
-def disk_point(f, o, wit, w, x, y, z):
-    """A truncated cone's point (x, y, z) in its frame, to f[o:o + 3] and its witness slot."""
+    x = rad * ux / q if q > 0.0 else 0.0
+    y = rad * uy / q if q > 0.0 else 0.0
     f[o] = x
     f[o + 1] = y
     f[o + 2] = z
     wit[w + 1] = x
     wit[w + 2] = y
     wit[w + 3] = z
+    return h
 
 
 def _ellipsoid_of(fixed_n, fixed_k):
