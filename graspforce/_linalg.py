@@ -161,6 +161,19 @@ def _reflect_vector(work, n, house, j, y):
         y[i] -= f * work[i, j]
 
 
+@njit(cache=True, forceinline=True)
+def _eliminate(lu, n, k):
+    """One step of Gaussian elimination on lu[:n, :n] with pivot lu[k, k]: the multipliers
+    into column k below it, the Schur complement into the trailing block."""
+    inv = 1.0 / lu[k, k]
+    for i in range(k + 1, n):
+        lu[i, k] *= inv
+        f = lu[i, k]
+        if f != 0.0:
+            for j in range(k + 1, n):
+                lu[i, j] -= f * lu[k, j]
+
+
 @njit(cache=True)
 def lu_factor(M, n, lu, piv):
     """LU with partial pivoting of M[:n, :n] into lu; False when singular to working precision."""
@@ -186,13 +199,7 @@ def lu_factor(M, n, lu, piv):
                 tmp = lu[k, j]
                 lu[k, j] = lu[p, j]
                 lu[p, j] = tmp
-        inv = 1.0 / lu[k, k]
-        for i in range(k + 1, n):
-            lu[i, k] *= inv
-            f = lu[i, k]
-            if f != 0.0:
-                for j in range(k + 1, n):
-                    lu[i, j] -= f * lu[k, j]
+        _eliminate(lu, n, k)
     return True
 
 
@@ -285,13 +292,7 @@ def solve_basic(M, n, lu, prow, pcol, b, x, tol=1e-13):
         rank += 1
         _swap(lu, prow, n, k, bi)
         _swap(lu.T, pcol, n, k, bj)
-        inv = 1.0 / lu[k, k]
-        for i in range(k + 1, n):
-            lu[i, k] *= inv
-            f = lu[i, k]
-            if f != 0.0:
-                for j in range(k + 1, n):
-                    lu[i, j] -= f * lu[k, j]
+        _eliminate(lu, n, k)
     # forward substitution on the first `rank` equations, back substitution, zeros past rank
     for i in range(rank):
         s = b[prow[i]]

@@ -30,10 +30,10 @@ import numpy as np
 from numba import njit
 
 from ._kernel import ELLIPSOID, HULL, blocks, support
-from ._corral import reproduce
+from ._corral import drop_point, reproduce
 from ._linalg import dot, lstsq, lu_factor, lu_solve, smallest, solve_basic
 from ._piece import (FLAT, KINK, TRUNCATED_CONE, flat_columns, flat_radius2, jacobian_size,
-                     piece_support, same_piece)
+                     local_size, piece_support, same_piece)
 
 NEWTON_STEPS = 12      # Newton steps of one attempt, over all changes of the piece set
 STEP_TOL = 1e-7        # ||du|| <= STEP_TOL ||u||: one more step leaves an error far below eps
@@ -80,19 +80,17 @@ def _mark_flat(ints, f, PW, p, leaf, x):
         blocks(nn)
     w = ints[WSTART + leaf]
     PW[p, w] = FLAT
-    q = int(f[ints[PSTART + leaf] + 1]) if ints[KIND + leaf] == ELLIPSOID else 2
-    for b in range(q):
+    for b in range(local_size(ints[KIND + leaf], f, ints[PSTART + leaf])):
         PW[p, w + 1 + b] = x[b]
 
 
 @njit(cache=True)
-def _solve_kkt(r, u, t, tau, lam, S, JJ, hs, m, T, y, nf, ny, fpiece, foff, fq, sm, K, lu, prow,
-               pcol, rhs, dx):
+def _solve_kkt(r, u, t, tau, lam, S, JJ, m, T, y, nf, ny, fpiece, foff, fq, sm, K, lu, prow, pcol,
+               rhs, dx):
     """One Newton step of the KKT system (module docstring) into dx = (du, dlam, dy, dt, dtau),
     by LU with partial pivoting, or a basic solution (complete pivoting) where the weights are
     not unique (two flat leaves that share a direction: two fingers on one face whose friction
-    split is free). sm: (m, n) work for the pieces' smooth
-    parts."""
+    split is free). sm: (m, n) work for the pieces' smooth parts."""
     n = r.shape[0]
     N = n + m + ny + 2
     it = n + m + ny
@@ -150,15 +148,6 @@ def _solve_kkt(r, u, t, tau, lam, S, JJ, hs, m, T, y, nf, ny, fpiece, foff, fq, 
 
 
 @njit(cache=True)
-def _drop(PW, lam, m, p):
-    for q in range(p, m - 1):
-        for a in range(PW.shape[1]):
-            PW[q, a] = PW[q + 1, a]
-        lam[q] = lam[q + 1]
-    return m - 1
-
-
-@njit(cache=True)
 def _weights_on_ray(S, m, r, x, D, work, wrhs, rhs):
     """Weights x[:m] (summing to 1) and t (returned) of the point of CH(S[:m]) nearest the ray,
     by least squares: S_0 + sum_p x_p (S_p - S_0) = t r. -1 when rank deficient."""
@@ -201,8 +190,8 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
     WS = np.empty((cap, ws))
     JJ = np.empty((cap, n, n))
     sm = np.empty((cap, n))
-    hs = np.empty(cap)
     lm = np.empty(cap)
+    group = np.empty(k, np.int64)
     size, nmax, qmax = jacobian_size(ints, f)
     ycap = 2 * n + 2
     T = np.empty((n, ycap))
@@ -236,17 +225,17 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
     # the pieces of the simplex, each weighted by the sum of its vertices' weights
     m = 0
     for j in range(k):
-        found = -1
+        group[j] = m
         for p in range(m):
             if same_piece(ints, Wt[j], PW[p]):
-                found = p
+                group[j] = p
                 break
-        if found < 0:
+        if group[j] == m:
             PW[m] = Wt[j]
             lm[m] = lam[j]
             m += 1
         else:
-            lm[found] += lam[j]
+            lm[group[j]] += lam[j]
     # flat leaves: the facet's normal nearly annihilates T, or the facet's vertices spread over
     # the body (a smooth piece's crowd together); x starts at their weighted mean
     un = np.sqrt(dot(u, u))
@@ -273,7 +262,7 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
             for b in range(q):
                 xbar[b] = 0.0
             for j in range(k):
-                if same_piece(ints, Wt[j], PW[p]):
+                if group[j] == p:
                     wsum += lam[j]
                     for b in range(q):
                         xbar[b] += lam[j] * Wt[j, w + 1 + b]
@@ -291,8 +280,8 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
             return _failed(t, np.inf, 0.0, steps, calls, nrm, S, lm, WS)
         kinked = False
         for p in range(m):
-            hs[p] = piece_support(ints, f, u, PW[p], S[p], WS[p], JJ[p], jw, nmax)
-            if hs[p] != hs[p]:
+            h = piece_support(ints, f, u, PW[p], S[p], WS[p], JJ[p], jw, nmax)
+            if h != h:
                 # a smooth leaf at its kink: its whole body is in the face, it turns flat
                 for i in range(nn):
                     if ints[KIND + i] < HULL and WS[p, ints[WSTART + i]] == KINK:
@@ -304,7 +293,7 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
             nf, ny = _flats(ints, f, PW, lm, m, T, y, fpiece, fleaf, foff, fq, C, C2)
             changes += 1
             continue
-        if steps > 0 and converged:
+        if converged:
             # certify: flat points inside their bodies, weights on the ray, the full support
             outside = -1
             for e in range(nf):
@@ -345,8 +334,8 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
             changes += 1
             converged = False
             continue
-        if not _solve_kkt(r, u, t, tau, lm, S, JJ, hs, m, T, y, nf, ny, fpiece, foff, fq, sm,
-                          K, lu, prow, pcol, rhs, dx):
+        if not _solve_kkt(r, u, t, tau, lm, S, JJ, m, T, y, nf, ny, fpiece, foff, fq, sm, K, lu,
+                          prow, pcol, rhs, dx):
             return _failed(t, np.inf, 0.0, steps, calls, nrm, S, lm, WS)
         steps += 1
         du = 0.0
@@ -368,7 +357,8 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
         if worst >= 0:
             # not a piece of the exit face: its weight would be negative (or is zero: the
             # basic solution left it out)
-            m = _drop(PW, lm, m, worst)
+            # (S's rows shift along: every round evaluates them afresh)
+            m = drop_point(S, PW, lm, m, worst)
             nf, ny = _flats(ints, f, PW, lm, m, T, y, fpiece, fleaf, foff, fq, C, C2)
             changes += 1
             converged = False

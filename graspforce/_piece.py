@@ -196,7 +196,7 @@ def _cap_piece(f, p, d, o, wit, w, J, j0):
 
 
 @njit(cache=True, inline='always')
-def _local_size(k, f, p):
+def local_size(k, f, p):
     """Entries of a flat leaf's local point: an ellipsoid's x (k), a disk's (x, y)."""
     return int(f[p + 1]) if k == ELLIPSOID else 2
 
@@ -251,7 +251,7 @@ def flat_columns(ints, f, leaf, T, off, C, C2):
     k = ints[KIND + leaf]
     p = ints[PSTART + leaf]
     nl = ints[DIM + leaf]
-    q = _local_size(k, f, p)
+    q = local_size(k, f, p)
     if off + q > T.shape[1]:
         return -1
     for a in range(nl):
@@ -364,7 +364,7 @@ def piece_support(ints, f, u, pw, point, wit, J, jw, nmax):
                 h = _flat_point(k, f, p, di, oi, pw, w, ni)
                 for a in range(ni * ni):
                     jw[j0 + a] = 0.0
-                for a in range(1, _local_size(k, f, p) + 1):
+                for a in range(1, local_size(k, f, p) + 1):
                     wit[w + a] = pw[w + a]
                 if k == TRUNCATED_CONE:
                     wit[w + 3] = f[oi + 2]
