@@ -7,22 +7,22 @@ if a weight is not positive, step back to the boundary and drop that point. Unli
 recursion it is exact in any dimension and never enumerates sub-simplices.
 """
 import numpy as np
-from numba import njit
 
-from ._linalg import lstsq, lstsq_append
+from ._jit import borrowing
+from ._linalg import lstsq_append
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def set_row(P, Wt, j, point, wit):
     """Row j of the simplex := (point, witness). Element loops, not slices: in these hot loops
-    a slice costs a reference-count round trip (measured: ~1.5 us of ZC-IE's 24)."""
+    a slice cost a reference-count round trip (~1.5 us of ZC-IE's 24, before graspforce._jit)."""
     for i in range(P.shape[1]):
         P[j, i] = point[i]
     for i in range(Wt.shape[1]):
         Wt[j, i] = wit[i]
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def drop_point(P, Wt, lam, k, j):
     """Remove row j of the simplex (points, witnesses, weights); returns the new size."""
     for i in range(j, k - 1):
@@ -34,7 +34,7 @@ def drop_point(P, Wt, lam, k, j):
     return k - 1
 
 
-@njit(cache=True)
+@borrowing
 def reproduce(P, x, k, b):
     """Whether the weights x[:k] of the rows P[:k] reproduce b to 1e-12 (1 + ||b||), the rounding
     floor of Fig. 3b's rule; if so they are clipped at zero and normalized to sum to 1."""
@@ -57,50 +57,46 @@ def reproduce(P, x, k, b):
     return True
 
 
-@njit(cache=True)
+@borrowing
 def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x, house, fact):
     """Reduce the simplex P[:k] (the last row just added, weight 0) to the minimal subset whose
     hull (affine=True: convex combinations) or cone (affine=False: nonnegative combinations of
     P_i - shift) holds the point closest to `target`. Writes the positive weights to lam[:k].
 
-    The cone's least squares keep their QR between calls (`lstsq_append`): `fact` columns,
-    P[:fact] - shift, are factored in work and house from the previous call with the same
-    target and shift (0: none). The hull's are solved afresh (their columns P_j - P_0 all change
-    when P_0 leaves).
+    The least squares keep their QR between calls (`lstsq_append`): `fact` columns are factored
+    in work and house from the previous call with the same target and shift (0: none). The
+    cone's column j is P_j - shift; the hull's column j is P_{j+1} - P_0, so that dropping P_0
+    discards them all.
 
     Returns (k, newest_kept, fact): newest_kept is False when the new point brought no
     improvement or was numerically dependent on the others, which the callers read as "no
     progress"; fact for the next call.
     """
     n = P.shape[1]
+    off = 1 if affine else 0     # row j of P is column j - off of D
     newest = k - 1
     while k > 0:
-        if affine:
-            q = k - 1
-            for i in range(n):
-                rhs[i] = target[i] - P[0, i]
-                for j in range(1, k):
-                    D[i, j - 1] = P[j, i] - P[0, i]
-            ok = lstsq(D, n, q, rhs, x, 1, work, wrhs)
-        else:
-            q = k
-            for i in range(n):
-                rhs[i] = target[i]
-                for j in range(fact, k):
-                    D[i, j] = P[j, i] - shift[i]
-            fact = lstsq_append(D, n, q, fact, rhs, x, work, wrhs, house)
-            ok = fact >= 0
-            fact = max(fact, 0)
+        q = k - off
+        for i in range(n):
+            base = P[0, i] if affine else shift[i]
+            rhs[i] = target[i] - base if affine else target[i]
+            for j in range(fact, q):
+                D[i, j] = P[j + off, i] - base
+        fact = lstsq_append(D, n, q, fact, rhs, x, work, wrhs, house)
+        ok = fact >= 0
+        fact = max(fact, 0)
         if not ok:
             if newest < 0:
                 return k, False, fact
             k = drop_point(P, Wt, lam, k, newest)
-            fact = min(fact, newest)
+            fact = min(fact, max(newest - off, 0))
             newest = -1
             continue
         if affine:
+            # x held the weights of P_1..P_{k-1}; P_0 takes the rest
             s = 1.0
-            for j in range(1, k):
+            for j in range(q - 1, -1, -1):
+                x[j + 1] = x[j]
                 s -= x[j]
             x[0] = s
         theta = 1.0
@@ -123,7 +119,7 @@ def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x, house, f
         while j >= 0:
             if lam[j] <= 0.0:
                 k = drop_point(P, Wt, lam, k, j)
-                fact = min(fact, j)
+                fact = min(fact, max(j - off, 0))
                 if j == newest:
                     newest = -1
                 elif j < newest:
@@ -132,7 +128,7 @@ def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x, house, f
     return k, False, fact
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def combine(P, lam, k, out):
     """out = sum_i lam_i P_i."""
     for i in range(P.shape[1]):

@@ -7,6 +7,7 @@ import numpy as np
 from numba import njit
 
 from ._corral import combine, corral, set_row
+from ._jit import borrowing
 from ._kernel import support
 from ._linalg import dot
 
@@ -31,7 +32,7 @@ def scratch(n):
             np.empty(n + 2), np.empty((3, n + 1)))
 
 
-@njit(cache=True)
+@borrowing
 def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_iter, nvec, v,
         point, wit, sc):
     """GJK (section 2.2): d_A(b) and v_A(b) from the simplex P[:k] (k = 0: cold start).
@@ -44,6 +45,7 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
     n = b.shape[0]
     D, work, rhs, wrhs, x, house = sc
     calls = 0
+    fact = 0      # corral's factored columns: none yet (`sc` may hold another caller's)
     if k == 0:
         for i in range(n):
             nvec[i] = b[i]
@@ -55,7 +57,7 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
         lam[0] = 1.0
         k = 1
     else:
-        k, _, _ = corral(P, Wt, lam, k, b, b, True, D, work, rhs, wrhs, x, house, 0)
+        k, _, fact = corral(P, Wt, lam, k, b, b, True, D, work, rhs, wrhs, x, house, fact)
     tiny = ROUNDING * (np.sqrt(dot(b, b)) + np.sqrt(dot(P[0], P[0]))) + 1e-300
     d = np.inf
     h = 0.0
@@ -79,13 +81,14 @@ def gjk(ints, floats, b, P, Wt, lam, k, eps_rel, eps_abs, rel_to_offset, max_ite
             return CONVERGED, k, d, h, it + 1, calls
         set_row(P, Wt, k, point, wit)
         lam[k] = 0.0
-        k, kept, _ = corral(P, Wt, lam, k + 1, b, b, True, D, work, rhs, wrhs, x, house, 0)
+        k, kept, fact = corral(P, Wt, lam, k + 1, b, b, True, D, work, rhs, wrhs, x, house,
+                               fact)
         if not kept:
             return STALLED, k, d, h, it + 1, calls
     return MAX_ITER, k, d, h, max_iter, calls
 
 
-@njit(cache=True)
+@borrowing
 def zc(ints, floats, shift, target, P, Wt, lam, k, eps_rel, eps_abs, max_iter, nvec, v, point,
        wit, sc):
     """ZC (section 2.3): distance from `target` to CO(A - shift) with generators P[:k] - shift.

@@ -4,6 +4,7 @@ from numba import njit, types
 from numba.extending import register_jitable
 
 from ._dispatch import shoot
+from ._jit import borrowing
 from ._packed import pack
 from ._shooters import MISS
 from ._signature import INTS, VECTOR
@@ -28,7 +29,7 @@ def force_views(packed, m):
             packed[1 + 10 * m:7 + 10 * m])
 
 
-@njit(cache=True)
+@borrowing
 def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, forces, wrenches,
                    resultant):
     """sigma, with forces (m, 4), wrenches (m, 6) and resultant (6,) (zeroed by the caller)

@@ -15,6 +15,7 @@ import numpy as np
 from numba import njit, types
 
 from ._dispatch import shoot
+from ._jit import borrowing
 from ._packed import HEAD, pack
 from ._shooters import HIT
 from ._signature import INTS, VECTOR
@@ -58,7 +59,7 @@ SIGNATURE = (INTS, VECTOR, INTS, VECTOR, types.float64[:, ::1], VECTOR, types.fl
              VECTOR, VECTOR)
 
 
-@njit(cache=True)
+@borrowing
 def _proper(R, p):
     if R.shape[0] != 3 or R.shape[1] != 3 or p.shape[0] != 3:
         return False

@@ -18,6 +18,7 @@ h_A(n_i*) - n_i*^T b_k <= eps n_i*^T b_k. Otherwise, with F+ the facets s lies b
 import numpy as np
 from numba import njit
 
+from ._jit import borrowing
 from ._kernel import support
 from ._linalg import dot, lu_factor, lu_solve, lu_solve_t
 from ._shooters import FACET, HIT, LIMIT, UNTIL_FACET, _result, zc_from, zc_family
@@ -26,7 +27,7 @@ FACE_TOL = 1e-12      # gam_l <= FACE_TOL * sum(gam): vertex l is not in the fac
 BEYOND_TOL = 1e-12    # y^T s > 1 + BEYOND_TOL: s lies beyond the facet
 
 
-@njit(cache=True)
+@borrowing
 def _factor(pool, idx, M, lu, piv):
     """LU of the matrix whose columns are the facet's vertices pool[idx]; False if singular."""
     n = idx.shape[0]
@@ -36,7 +37,7 @@ def _factor(pool, idx, M, lu, piv):
     return lu_factor(M, n, lu, piv)
 
 
-@njit(cache=True)
+@borrowing
 def _facet(pool, idx, r, M, lu, piv, ones, y, gam):
     """Hyperplane y and conic coordinates gam of the facet with vertices pool[idx]; False when
     it is degenerate or does not face the ray (y^T r <= 0)."""
@@ -48,7 +49,7 @@ def _facet(pool, idx, r, M, lu, piv, ones, y, gam):
     return dot(y, r) > 0.0
 
 
-@njit(cache=True)
+@borrowing
 def _ratio_test(pool, facet, gam, s, M, lu, piv, alpha):
     """The vertex j* that s replaces so that the ray still crosses the facet: with
     s = sum alpha_l a_l, j* minimizes gam_j / alpha_j over alpha_j > 0. -1 on a tie (the ray
@@ -85,7 +86,7 @@ def _push(F, Y, GAM, nf, idx, y, gam):
     return nf + 1
 
 
-@njit(cache=True)
+@borrowing
 def _contains(F, g, ridge, m):
     """Whether facet row F[g] holds all m indices of `ridge`."""
     n = F.shape[1]

@@ -22,6 +22,8 @@ active, children] (each block nn long but `children`); `floats` = [params, scrat
 import numpy as np
 from numba import njit
 
+from ._jit import borrowing
+
 POLYTOPE = 0   # params: m, n, vertices (m*n)            witness: [active, vertex index]
 ELLIPSOID = 1  # params: n, k, center (n), shape (n*k)   witness: [active, x (k)]
 BOX = 2        # params: n, half extents (n)             witness: [active, corner (n)]
@@ -64,9 +66,9 @@ def children(ints, node):
 def _leaf_value(k, f, p, d, o, wit, w):
     """h of one leaf: parameters at f[p:], direction at f[d:d + dim]. Writes what the leaf's point
     needs to its witness slot wit[w + 1:] (a polytope's vertex index, an ellipsoid's S^T u); the
-    cheap leaves write their point to f[o:o + dim] too. Offsets, not slices: a slice costs a
-    reference count round trip, which at a few hundred nanoseconds a call dominates the
-    arithmetic; inlined into `support` for the same reason (10% of a hull of four ellipsoids)."""
+    cheap leaves write their point to f[o:o + dim] too. Offsets, not slices: a slice builds an
+    array structure (and, in code that counts references, a round trip of its count), which
+    dominates the arithmetic; inlined into `support` (10% of a hull of four ellipsoids)."""
     if k == POLYTOPE:
         m = int(f[p])
         n = int(f[p + 1])
@@ -233,7 +235,7 @@ def cap_direction(f, p, d):
     return n, f[p + 1], y1, q2, np.sqrt(q2), np.sqrt(y1 * y1 + q2)
 
 
-@njit(cache=True)
+@borrowing
 def _cone_cap_support(f, p, d, o, wit, w):
     """Support of the unit vectors g of the circular cone K = {||g_2:n|| <= mu g_1}.
 
@@ -276,7 +278,7 @@ def _cone_cap_support(f, p, d, o, wit, w):
     return h
 
 
-@njit(cache=True)
+@borrowing
 def support(ints, f, u, point, wit):
     """h_A(u) (returned) and s_A(u) (into `point`) of eq. (2); the witness goes into `wit`.
 

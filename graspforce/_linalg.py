@@ -6,15 +6,17 @@ accuracy goal needs) and LU with partial pivoting for the square facet systems o
 The small helpers called in the algorithms' inner loops here and in _corral and _shooters are
 compiled with forceinline=True (LLVM's alwaysinline): a call passes every array as its seven
 fields and costs more than their arithmetic (an IE step's helpers in R^6: 229 ns as calls, 113
-ns inlined, 152 ns with Numba's inline='always', which keeps their reference counting).
+ns inlined, 152 ns with Numba's inline='always', which keeps their reference counting). All
+of them borrow their arrays (graspforce._jit).
 """
 import numpy as np
-from numba import njit
+
+from ._jit import borrowing
 
 RANK_TOL = 1e-12
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def dot(a, b):
     """a^T b for 1-D arrays. np.dot calls BLAS: ~25 ns on 3- to 6-vectors against ~1.5 ns for
     this loop, and the hot loops take several per iteration."""
@@ -24,7 +26,7 @@ def dot(a, b):
     return s
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def smallest(x, n):
     """min(x[:n]) for n >= 1, inlined (np.min is a call)."""
     m = x[0]
@@ -33,7 +35,7 @@ def smallest(x, n):
     return m
 
 
-@njit(cache=True)
+@borrowing
 def lstsq(D, n, q, rhs, x, x0, work, wrhs):
     """x[x0:x0 + q] = argmin ||D[:n, :q] x - rhs[:n]||. False when D is (numerically) rank
     deficient. `work` (n, q) and `wrhs` (n) are scratch; D and rhs are left untouched. (An offset,
@@ -87,7 +89,7 @@ def lstsq(D, n, q, rhs, x, x0, work, wrhs):
     return True
 
 
-@njit(cache=True)
+@borrowing
 def lstsq_append(D, n, q, fact, rhs, x, work, wrhs, house):
     """`lstsq` (x at offset 0) when work and house already hold the Householder QR of D's first
     `fact` columns, left by an earlier call on the same columns: only columns fact..q-1 are
@@ -135,7 +137,7 @@ def lstsq_append(D, n, q, fact, rhs, x, work, wrhs, house):
     return q
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def _reflect_column(work, n, house, j, c):
     """Apply reflection j of `lstsq_append` (v = [house[0, j], work[j+1:, j]]) to work[:, c]."""
     v0 = house[0, j]
@@ -148,7 +150,7 @@ def _reflect_column(work, n, house, j, c):
         work[i, c] -= f * work[i, j]
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def _reflect_vector(work, n, house, j, y):
     """Apply reflection j of `lstsq_append` to the vector y."""
     v0 = house[0, j]
@@ -161,7 +163,7 @@ def _reflect_vector(work, n, house, j, y):
         y[i] -= f * work[i, j]
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def _eliminate(lu, n, k):
     """One step of Gaussian elimination on lu[:n, :n] with pivot lu[k, k]: the multipliers
     into column k below it, the Schur complement into the trailing block."""
@@ -174,7 +176,7 @@ def _eliminate(lu, n, k):
                 lu[i, j] -= f * lu[k, j]
 
 
-@njit(cache=True)
+@borrowing
 def lu_factor(M, n, lu, piv):
     """LU with partial pivoting of M[:n, :n] into lu; False when singular to working precision."""
     scale = 0.0
@@ -203,7 +205,7 @@ def lu_factor(M, n, lu, piv):
     return True
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def lu_solve(lu, piv, n, b, x):
     """Solve M x = b from lu_factor(M); x may be b itself."""
     for i in range(n):
@@ -226,7 +228,7 @@ def lu_solve(lu, piv, n, b, x):
         x[i] = s / lu[i, i]
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def lu_solve_t(lu, piv, n, b, x):
     """Solve M^T x = b from lu_factor(M)."""
     for i in range(n):
@@ -249,7 +251,7 @@ def lu_solve_t(lu, piv, n, b, x):
             x[p] = tmp
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def _swap(a, order, n, i, j):
     """Exchange rows i and j of a[:, :n] and entries i and j of the permutation `order`."""
     if i == j:
@@ -263,7 +265,7 @@ def _swap(a, order, n, i, j):
     order[j] = tmp2
 
 
-@njit(cache=True)
+@borrowing
 def solve_basic(M, n, lu, prow, pcol, b, x, tol=1e-13):
     """A basic solution x of M[:n, :n] x = b by LU with complete pivoting: the unknowns past the
     numerical rank are zero and the equations past it are dropped (consistent for the

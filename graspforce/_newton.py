@@ -29,6 +29,7 @@ n vertices, a flat face whose normal sits on a piece's kink), the finish fails a
 import numpy as np
 from numba import njit
 
+from ._jit import borrowing
 from ._kernel import ELLIPSOID, HULL, blocks, support
 from ._corral import drop_point, reproduce
 from ._linalg import dot, lstsq, lu_factor, lu_solve, smallest, solve_basic
@@ -42,7 +43,7 @@ FLAT_SPREAD = 0.5      # or its facet vertices' mean local point is this far ins
 MAX_CHANGES = 6        # changes of the piece set in one attempt
 
 
-@njit(cache=True)
+@borrowing
 def _flats(ints, f, PW, lam, m, T, y, fpiece, fleaf, foff, fq, C, C2):
     """The flat leaves of the pieces: their piece, node, offset in y and size; T's columns and
     y = lam_p x. Returns (count, entries of y); count -1 when T has no room for them."""
@@ -72,7 +73,7 @@ def _flats(ints, f, PW, lam, m, T, y, fpiece, fleaf, foff, fq, C, C2):
     return nf, ny
 
 
-@njit(cache=True)
+@borrowing
 def _mark_flat(ints, f, PW, p, leaf, x):
     """Turn a leaf of piece p flat with local point x (a disk keeps its side)."""
     nn = ints[0]
@@ -84,7 +85,7 @@ def _mark_flat(ints, f, PW, p, leaf, x):
         PW[p, w + 1 + b] = x[b]
 
 
-@njit(cache=True)
+@borrowing
 def _solve_kkt(r, u, t, tau, lam, S, JJ, m, T, y, nf, ny, fpiece, foff, fq, sm, K, lu, prow, pcol,
                rhs, dx):
     """One Newton step of the KKT system (module docstring) into dx = (du, dlam, dy, dt, dtau),
@@ -147,7 +148,7 @@ def _solve_kkt(r, u, t, tau, lam, S, JJ, m, T, y, nf, ny, fpiece, foff, fq, sm, 
     return solve_basic(K, N, lu, prow, pcol, rhs, dx) > n
 
 
-@njit(cache=True)
+@borrowing
 def _weights_on_ray(S, m, r, x, D, work, wrhs, rhs):
     """Weights x[:m] (summing to 1) and t (returned) of the point of CH(S[:m]) nearest the ray,
     by least squares: S_0 + sum_p x_p (S_p - S_0) = t r. -1 when rank deficient."""

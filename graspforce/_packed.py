@@ -7,8 +7,9 @@ so the entry points called once per query write [extra (caller's data), normal (
 (k), vertices (k, n), witnesses (k, ws)] into a float array of `capacity` entries after the
 extra ones, and return the scalars; Python takes views of the array only when a field is read.
 """
-from numba import njit
 from numba.extending import register_jitable
+
+from ._jit import borrowing
 
 HEAD = 8   # (status, t, t_upper, h_n, iterations, support_calls, singular_steps, k)
 
@@ -20,7 +21,7 @@ def capacity(n, ws):
     return n + (n + 2) * (1 + n + ws)
 
 
-@njit(cache=True)
+@borrowing
 def pack(out, packed, e):
     """The head (status, t, t_upper, h_n, iterations, support_calls, singular_steps, k) of the
     shooters' result tuple `out` (graspforce._shooters._result), its arrays written to

@@ -25,6 +25,7 @@ witness. Adding a leaf kind means adding its piece here, beside its support in `
 import numpy as np
 from numba import njit
 
+from ._jit import borrowing
 from ._kernel import (AFFINE, BOX, CONE_CAP, ELLIPSOID, HULL, POLYTOPE, SUM, _affine_pull,
                       _cone_cap_support, blocks, cap_direction)
 
@@ -34,7 +35,7 @@ KINK = -1.0       # witness flag piece_support leaves on the smooth leaf whose k
 TRUNCATED_CONE = 3
 
 
-@njit(cache=True)
+@borrowing
 def jacobian_size(ints, f):
     """(entries of the work array `piece_support` keeps one Jacobian per node in, and a product
     in, the largest dimension of a node, the largest local point of a leaf that can be flat)."""
@@ -50,7 +51,7 @@ def jacobian_size(ints, f):
     return (nn + 1) * nmax * nmax, nmax, qmax
 
 
-@njit(cache=True)
+@borrowing
 def same_piece(ints, wa, wb):
     """Whether two witnesses name the same smooth piece (see the module docstring)."""
     nn = ints[0]
@@ -223,7 +224,7 @@ def _flat_point(k, f, p, d, o, pw, w, n):
     return h
 
 
-@njit(cache=True)
+@borrowing
 def flat_radius2(ints, f, leaf, pw):
     """||x||^2 / (its bound)^2 of a flat leaf's local point: <= 1 when the point is in the leaf."""
     nn = ints[0]
@@ -241,7 +242,7 @@ def flat_radius2(ints, f, leaf, pw):
     return s / (rad * rad) if rad > 0.0 else (0.0 if s == 0.0 else np.inf)
 
 
-@njit(cache=True)
+@borrowing
 def flat_columns(ints, f, leaf, T, off, C, C2):
     """T[:, off:off + q] = L S for a flat leaf (module docstring); returns q, or -1 when T has
     not q columns left. C, C2: (nmax, qmax) work (`jacobian_size`)."""
@@ -315,7 +316,7 @@ _affine_jacobian = _affine_jacobian_of(None, None)
 _affine_3_3_jacobian = _affine_jacobian_of(3, 3)
 
 
-@njit(cache=True)
+@borrowing
 def piece_support(ints, f, u, pw, point, wit, J, jw, nmax):
     """h_P(u) (returned; NaN at a kink of the piece), s_P(u) into `point`, its witness into
     `wit` and J_P(u) = ds_P/du into J (n, n), for the piece P named by the witness `pw`.

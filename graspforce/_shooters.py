@@ -17,6 +17,7 @@ from numba import njit
 
 from ._corral import drop_point, reproduce, set_row
 from ._distance import CONVERGED, INSIDE, MAX_ITER, STALLED, gjk, scratch, zc
+from ._jit import borrowing
 from ._kernel import support
 from ._linalg import dot, lstsq, lu_factor, lu_solve, lu_solve_t, smallest
 from ._newton import newton_finish
@@ -46,7 +47,7 @@ def _result(status, t, t_up, h_n, iters, calls, normal, P, lam, Wt, k, singular)
     return status, t, t_up, h_n, iters, calls, normal, P[:k], lam[:k], Wt[:k], singular
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def _keep(P, Wt, lam, k, Pz, Wz, lz, changed=-1):
     """Save the simplex holding the current point on the ray: it becomes Z_A(r) at the end.
     changed >= 0: Pz[:k], Wz[:k] already hold P[:k], Wt[:k] but for that row (an IE step
@@ -86,7 +87,7 @@ def _miss(ints, floats, r, ws, eps, iters, calls, max_iter):
     return _result(status, 0.0, 0.0, h, iters + it, calls + c, nvec, P, lam, Wt, 0, 0)
 
 
-@njit(cache=True)
+@borrowing
 def _on_ray(P, k, b, x, tol, sc):
     """Barycentric weights x of b in CH(P[:k]) if b lies there (the improved stopping rule of
     Fig. 3b: the ray meets CH(V_A(b_k))); False otherwise. sc: `scratch(n)`."""
@@ -169,7 +170,7 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
     return _result(LIMIT, t, t_up, best_h, max_iter, calls, best_n, P, lam, Wt, k, 0)
 
 
-@njit(cache=True)
+@borrowing
 def _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter, nvec, v, point, wit, b, sc):
     """One ZC-based iteration (section 3.3) from b_k = t r (written to b): ZC on A - b_k toward
     r."""
@@ -187,14 +188,20 @@ NEWTON_GAP = 0.1
 NEWTON_RETRY = 1e-2
 
 
-@njit(cache=True)
-def _invert(P, n, M, lu, piv, B, col):
-    """B = [P_0 .. P_{n-1}]^{-1} (facet points as columns), keeping its LU in lu, piv; False
-    when singular."""
+@borrowing
+def _factor_facet(P, n, M, lu, piv):
+    """LU of [P_0 .. P_{n-1}] (facet points as columns) into lu, piv; False when singular."""
     for j in range(n):
         for i in range(n):
             M[i, j] = P[j, i]
-    if not lu_factor(M, n, lu, piv):
+    return lu_factor(M, n, lu, piv)
+
+
+@borrowing
+def _invert(P, n, M, lu, piv, B, col):
+    """B = [P_0 .. P_{n-1}]^{-1} (facet points as columns), keeping its LU in lu, piv; False
+    when singular."""
+    if not _factor_facet(P, n, M, lu, piv):
         return False
     for j in range(n):
         for i in range(n):
@@ -207,7 +214,7 @@ def _invert(P, n, M, lu, piv, B, col):
     return True
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def _matvec(B, n, x, out):
     for i in range(n):
         s = 0.0
@@ -216,7 +223,7 @@ def _matvec(B, n, x, out):
         out[i] = s
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def _matvec_t_ones(B, n, out):
     """out = B^T 1: the facet's hyperplane y^T x = 1."""
     for j in range(n):
@@ -226,22 +233,30 @@ def _matvec_t_ones(B, n, out):
             out[j] += B[i, j]
 
 
-@njit(cache=True, forceinline=True)
-def _pivot(B, n, alpha, js):
+@borrowing(forceinline=True)
+def _pivot(B, n, alpha, js, y, gam):
     """Column js of the facet replaced by s, with B s = alpha (Sherman-Morrison, as in the
     revised simplex method): row js of the new inverse is B[js] / alpha_js, and every other
-    row i loses alpha_i times it."""
+    row i loses alpha_i times it. y = B^T 1 and gam = B r follow in O(n): gam like a column
+    of B, and y gains (1 - sum alpha) times the new row js (the column sums of the row
+    operations)."""
     inv = 1.0 / alpha[js]
+    asum = 0.0
+    for i in range(n):
+        asum += alpha[i]
     for j in range(n):
         B[js, j] *= inv
+        y[j] += (1.0 - asum) * B[js, j]
+    gam[js] *= inv
     for i in range(n):
         if i != js and alpha[i] != 0.0:
             f = alpha[i]
+            gam[i] -= f * gam[js]
             for j in range(n):
                 B[i, j] -= f * B[js, j]
 
 
-@njit(cache=True, forceinline=True)
+@borrowing(forceinline=True)
 def _restart(P, Wt, lam, k):
     """Warm start for the next ZC call: b_{k+1} is a convex combination of all of V_k, so
     V_k - b_{k+1} is linearly dependent; dropping one point restores independence. Drop the
@@ -308,17 +323,20 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
             # IE step on the facet CH(V), columns a_l: hyperplane y^T x = 1, r = sum gam_l a_l.
             # y and gam come from B, the facet's inverse, refactored every REFACTOR steps and
             # updated in between by the revised simplex method's pivot rule (O(n^2) a step).
-            if age < 0 or age >= REFACTOR or fresh_only:
+            if fresh_only:
+                # LU solves only, no inverse: y, gam here, alpha below
+                ok = _factor_facet(P, n, M, lu, piv)
+            elif age < 0 or age >= REFACTOR:
                 ok = _invert(P, n, M, lu, piv, B, col)
                 age = 0
+                if ok:
+                    _matvec_t_ones(B, n, y)
+                    _matvec(B, n, r, gam)
             else:
-                ok = True
+                ok = True         # y and gam came with the last pivot
             if ok and fresh_only:
                 lu_solve_t(lu, piv, n, ones, y)
                 lu_solve(lu, piv, n, r, gam)
-            elif ok:
-                _matvec_t_ones(B, n, y)
-                _matvec(B, n, r, gam)
             if ok:
                 yr = dot(y, r)
                 ok = yr > 0.0 and smallest(gam, n) >= -1e-12 * yr
@@ -363,7 +381,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     # certify with LU solves on a fresh factorization: t and the weights must
                     # not carry the drift of the updated inverse. The normal and h_A(n) already
                     # evaluated give a valid bracket whatever n is.
-                    _invert(P, n, M, lu, piv, B, col)
+                    _factor_facet(P, n, M, lu, piv)
                     lu_solve_t(lu, piv, n, ones, y)
                     lu_solve(lu, piv, n, r, gam)
                     yr = dot(y, r)
@@ -396,7 +414,10 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     newton_gap = gap * NEWTON_RETRY
                 kz = _keep(P, Wt, lam, n, Pz, Wz, lz, changed)
                 # ratio test: the new facet the ray crosses replaces the vertex j*
-                _matvec(B, n, point, alpha)
+                if fresh_only:
+                    lu_solve(lu, piv, n, point, alpha)
+                else:
+                    _matvec(B, n, point, alpha)
                 js = 0
                 best = np.inf
                 amax = 0.0
@@ -407,8 +428,8 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                         js = j
                 set_row(P, Wt, js, point, wit)
                 changed = js
-                if alpha[js] > 1e-8 * amax:
-                    _pivot(B, n, alpha, js)
+                if not fresh_only and alpha[js] > 1e-8 * amax:
+                    _pivot(B, n, alpha, js, y, gam)
                     age += 1
                 else:
                     age = -1

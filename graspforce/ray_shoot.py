@@ -16,13 +16,12 @@ METHODS = {"gjk": S.GJK_BASED, "ie": S.IE, "zc": S.ZC_BASED, "bi-gjk": S.BI_GJK,
 _STATUS = {S.HIT: "hit", S.MISS: "miss", S.LIMIT: "max_iter"}
 
 
-def check_ray_input(A, r, eps, max_iter):
-    if not isinstance(A, ConvexSet):
-        raise TypeError(f"A: expected a graspforce convex set, got {type(A).__name__}")
-    r, rr = finite_vector(r, "r", A.dim)
+def check_ray(r, n):
+    """r as a finite, nonzero float64 vector of n entries, or the error that names the rule."""
+    r, rr = finite_vector(r, "r", n)
     if rr == 0.0:
         raise ValueError("r: the ray direction must be nonzero")
-    return (r,) + check_tolerances(eps, max_iter)
+    return r
 
 
 def check_tolerances(eps, max_iter):
@@ -45,17 +44,35 @@ def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=1000):
     max_iter: iteration limit; reaching it is the status "max_iter", never an exception.
     """
     code = METHODS[check_choice(method, METHODS, "method")]
-    r, eps, max_iter = check_ray_input(A, r, eps, max_iter)
+    if not isinstance(A, ConvexSet):
+        raise TypeError(f"A: expected a graspforce convex set, got {type(A).__name__}")
+    eps, max_iter = check_tolerances(eps, max_iter)
     ints, floats = A.program
     ws = A.witness_size
     packed = np.empty(capacity(A.dim, ws))
-    head = shoot_packed(ints, floats, r, ws, code, eps, max_iter, packed)
+    # the common call, a float64 (n,) array, goes straight to the compiled code, which checks
+    # that it is finite and nonzero; anything else, or a refused r, is checked here
+    head = None
+    if type(r) is np.ndarray and r.dtype == np.float64 and r.shape == (A.dim,):
+        head = shoot_packed(ints, floats, r, ws, code, eps, max_iter, packed)
+    if head is None or head[0] == BAD_RAY:
+        r = check_ray(r, A.dim)
+        head = shoot_packed(ints, floats, r, ws, code, eps, max_iter, packed)
     return make_ray_shot(A, r, method, head, packed)
+
+
+BAD_RAY = -1   # shoot_packed's status for an r that is not finite or is zero
 
 
 @njit(cache=True)
 def shoot_packed(ints, floats, r, ws, method, eps, max_iter, packed):
-    """The head of the shot; its arrays into `packed` (graspforce._packed)."""
+    """The head of the shot; its arrays into `packed` (graspforce._packed). Status BAD_RAY and
+    no shot when r is not finite or is zero."""
+    rr = 0.0
+    for a in range(r.shape[0]):
+        rr += r[a] * r[a]
+    if not (0.0 < rr < np.inf):
+        return BAD_RAY, 0.0, 0.0, 0.0, 0, 0, 0, 0
     return pack(shoot(ints, floats, r, ws, method, eps, max_iter), packed, 0)
 
 

@@ -1,0 +1,25 @@
+"""How the numerics are compiled: Numba nopython, cached, and, where it is safe, without
+Numba's reference counting.
+
+Numba counts references to every array with atomic increments and decrements (NRT_incref,
+NRT_decref). Its pruning pass removes the pairs only in simple control flow, so a function with
+loops and several exits pays a pair for each array argument and each inlined helper's argument,
+on every call: a ZC-IE shot on the ingot's W_L1 made ~500 increments and ~520 decrements (counted
+with NUMBA_DEBUG_NRT=1), and a support call on it took 223 ns in a compiled loop, 115 ns compiled
+without them (BENCHMARKS.md, "Reference counting").
+
+`borrowing` compiles a function with Numba's `_nrt=False` option, as Numba's own string and sort
+helpers are: its array arguments are borrowed from the caller, which owns them, and nothing is
+counted. The rule that makes this safe: such a function allocates nothing and returns or stores no
+array (a view it made would hold its parent's memory without a reference); it reads and writes
+arrays its caller keeps alive, and returns scalars. Everything that allocates, or returns arrays
+(the shooters' result records), is compiled with `njit(cache=True)` as usual.
+"""
+from numba import njit
+
+
+def borrowing(fn=None, **options):
+    """njit(cache=True) without reference counting (module docstring); options such as
+    forceinline=True pass through."""
+    decorate = njit(cache=True, _nrt=False, **options)
+    return decorate if fn is None else decorate(fn)
