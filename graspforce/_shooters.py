@@ -109,9 +109,21 @@ def _on_ray(P, k, b, x, tol, sc):
     return reproduce(P, x, k, b)
 
 
+INEXACT_GJK = 1.0   # gjk_based: GJK's tolerance, relative to the last step squared, until eps
+
+
 @njit(cache=True)
 def gjk_based(ints, floats, r, ws, eps, max_iter):
-    """Section 3.1: b_k outside A walks down the ray by eq. (4), stopped by Fig. 3b's rule."""
+    """Section 3.1: b_k outside A walks down the ray, stopped by Fig. 3b's rule.
+
+    Eq. (4) steps to the hyperplane H(n_k, v_A(b_k)), which needs d_A(b_k) exactly: GJK run to
+    eps at every b_k. The steps converge quadratically where A is curved (the tangent plane at
+    v_A(b_k) crosses the ray within O(d^2) of z_A(r)), so an early step needs far less: while the
+    last step moved t by a relative `step`, GJK stops at a relative gap of step^2 (the next
+    step's expected size) and b_{k+1} is where the supporting hyperplane H(n_k, s_A(n_k))
+    crosses the ray, outside A whatever GJK's accuracy. Once that tolerance reaches eps, eq. (4)
+    and Fig. 3b's rule as written. (Ingot W_L1, 300 rays: median support calls 168 -> 80;
+    INEXACT_GJK 0.1 gave 98, 0.01 106.)"""
     n = r.shape[0]
     rr = dot(r, r)
     P = np.empty((n + 2, n))
@@ -135,9 +147,10 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
     lam[0] = 1.0
     k = 1
     t_floor = -1.0   # max(-h_A(-r), 0) / r^T r, evaluated when first needed
+    eps_gjk = max(eps, INEXACT_GJK)
     for it in range(max_iter):
         b = t * r
-        st, k, d, h, gi, gc = gjk(ints, floats, b, P, Wt, lam, k, eps, 0.0, True,
+        st, k, d, h, gi, gc = gjk(ints, floats, b, P, Wt, lam, k, eps_gjk, 0.0, True,
                                   max_iter, nvec, v, point, wit, sc)
         calls += gc
         if st == INSIDE:
@@ -152,7 +165,8 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
         rn = dot(r, nvec)
         if rn <= 0.0:
             return _miss(ints, floats, r, ws, eps, it + 1, calls, max_iter)
-        t_next = t - d / rn
+        exact = eps_gjk <= eps
+        t_next = t - d / rn if exact else min(h / rn, t)
         if t_floor < 0.0:
             t_floor = max(-support(ints, floats, -r, point, wit), 0.0) / rr
             calls += 1
@@ -162,11 +176,13 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
             t_up = h / rn
             best_n[:] = nvec
             best_h = h
+        step = (t - t_next) / t_next if t_next > 0.0 else 0.0
         t = t_next
-        if st == CONVERGED and _on_ray(P, k, t * r, x, 1e-12, sc):
+        if exact and st == CONVERGED and _on_ray(P, k, t * r, x, 1e-12, sc):
             for j in range(k):
                 lam[j] = x[j]
             return _result(HIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
+        eps_gjk = max(eps, INEXACT_GJK * step * step)
     return _result(LIMIT, t, t_up, best_h, max_iter, calls, best_n, P, lam, Wt, k, 0)
 
 
