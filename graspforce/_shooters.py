@@ -214,6 +214,17 @@ def _factor_facet(P, n, M, lu, piv):
 
 
 @borrowing
+def _solve_facet(P, n, r, M, lu, piv, ones, y, gam):
+    """y (the facet's hyperplane y^T x = 1) and gam (r = sum gam_l P_l) by LU solves on a fresh
+    factorization of [P_0 .. P_{n-1}], left in lu, piv; False when singular."""
+    if not _factor_facet(P, n, M, lu, piv):
+        return False
+    lu_solve_t(lu, piv, n, ones, y)
+    lu_solve(lu, piv, n, r, gam)
+    return True
+
+
+@borrowing
 def _invert(P, n, M, lu, piv, B, col):
     """B = [P_0 .. P_{n-1}]^{-1} (facet points as columns), keeping its LU in lu, piv; False
     when singular."""
@@ -341,7 +352,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
             # updated in between by the revised simplex method's pivot rule (O(n^2) a step).
             if fresh_only:
                 # LU solves only, no inverse: y, gam here, alpha below
-                ok = _factor_facet(P, n, M, lu, piv)
+                ok = _solve_facet(P, n, r, M, lu, piv, ones, y, gam)
             elif age < 0 or age >= REFACTOR:
                 ok = _invert(P, n, M, lu, piv, B, col)
                 age = 0
@@ -350,9 +361,6 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     _matvec(B, n, r, gam)
             else:
                 ok = True         # y and gam came with the last pivot
-            if ok and fresh_only:
-                lu_solve_t(lu, piv, n, ones, y)
-                lu_solve(lu, piv, n, r, gam)
             if ok:
                 yr = dot(y, r)
                 ok = yr > 0.0 and smallest(gam, n) >= -1e-12 * yr
@@ -397,12 +405,11 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     # certify with LU solves on a fresh factorization: t and the weights must
                     # not carry the drift of the updated inverse. The normal and h_A(n) already
                     # evaluated give a valid bracket whatever n is.
-                    _factor_facet(P, n, M, lu, piv)
-                    lu_solve_t(lu, piv, n, ones, y)
-                    lu_solve(lu, piv, n, r, gam)
+                    ok = _solve_facet(P, n, r, M, lu, piv, ones, y, gam)
                     yr = dot(y, r)
                     nr = dot(nvec, r)
-                    if yr > 0.0 and smallest(gam, n) >= 0.0 and h / nr - 1.0 / yr <= eps / yr:
+                    if (ok and yr > 0.0 and smallest(gam, n) >= 0.0
+                            and h / nr - 1.0 / yr <= eps / yr):
                         t = 1.0 / yr
                         for j in range(n):
                             lam[j] = gam[j] * t
