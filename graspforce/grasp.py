@@ -60,7 +60,7 @@ class Grasp:
         return space
 
     def min_force(self, w_ext, norm="L1", magnitude="normal", method="zc-ie", eps=1e-9,
-                  max_iter=1000):
+                  max_iter=10000):
         """Contact forces in the friction cones that resist w_ext with the least overall magnitude.
 
         w_ext: the external wrench (force, torque about the frame's origin), (6,); the contacts

@@ -45,7 +45,7 @@ _VERDICTS = {SEPARATED: "separated", TOUCHING: "touching", PENETRATING: "penetra
              NOT_CERTIFIED: "max_iter"}
 
 
-def growth_distance(A, pose_a, B, pose_b, method="zc-ie", eps=1e-9, max_iter=1000,
+def growth_distance(A, pose_a, B, pose_b, method="zc-ie", eps=1e-9, max_iter=10000,
                     touching_tol=1e-9):
     """g(A, B) of eq. (9)-(10) for 3-D convex sets A, B given in their local frames (whose
     origins are interior points) and poses as (R, p), 4x4 homogeneous matrices or
@@ -79,7 +79,7 @@ class GrowthDistance:
     keeps that memory in the solver's state array (graspforce._growth).
     """
 
-    def __init__(self, A, B, method="zc-ie", eps=1e-9, max_iter=1000, touching_tol=1e-9,
+    def __init__(self, A, B, method="zc-ie", eps=1e-9, max_iter=10000, touching_tol=1e-9,
                  warm_start=True):
         for name, X in (("A", A), ("B", B)):
             if not isinstance(X, ConvexSet):

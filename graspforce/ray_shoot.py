@@ -33,7 +33,7 @@ def check_tolerances(eps, max_iter):
     return eps, max_iter
 
 
-def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=1000):
+def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=10000):
     """Farthest point z_A(r) of A on the ray R(r) = {lambda r : lambda >= 0} (section 2.1).
 
     method: "gjk" (3.1), "ie" (3.2), "zc" (3.3), "bi-gjk" (3.4.1), "zc-ie" (3.4.2), or
@@ -41,7 +41,9 @@ def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=1000):
     (graspforce._newton; fewer iterations, answers exact to rounding).
     eps: relative tolerance; every method stops once (h_A(n) - n^T z) <= eps n^T z, which
     bounds the relative error in t by eps (t_upper / t - 1 <= eps).
-    max_iter: iteration limit; reaching it is the status "max_iter", never an exception.
+    max_iter: iteration limit; reaching it is the status "max_iter", never an exception. IE-type
+    steps (IE, ZC-IE, ZC-based) converge linearly on curved sets, slower as n grows: a hull of
+    three ellipsoids in R^12 takes IE ~900 and ZC-based ~1200 of them at eps = 1e-9.
     """
     code = METHODS[check_choice(method, METHODS, "method")]
     if not isinstance(A, ConvexSet):
