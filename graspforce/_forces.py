@@ -81,40 +81,40 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, f
     return sigma
 
 
-# the one signature of `shoot_and_read_forces` (graspforce._signature)
-SIGNATURE = (INTS, VECTOR, VECTOR, types.int64, types.int64, types.float64,
-              types.int64, types.float64[:, :, ::1], types.int64[:, ::1], VECTOR,
-              types.boolean, types.boolean, VECTOR, VECTOR)
+# the one signature of `shoot_and_read_forces` (graspforce._signature): the per-call arguments,
+# then a wrench space's `compiled_args`
+SIGNATURE = (VECTOR, types.int64, types.float64, types.int64, VECTOR,
+             INTS, VECTOR, types.int64, types.float64[:, :, ::1], types.int64[:, ::1], VECTOR,
+             types.boolean, types.boolean, VECTOR)
 
-# what shoot_and_read_forces says of w_ext before any shot
-SHOT = 0
-ZERO_WRENCH = 1       # w_ext = 0: no force needed, sigma = 0
-BAD_WRENCH = 2        # not 6 entries, or not finite
+# statuses of shoot_and_read_forces that say no shot was made (the shooters' are >= 0)
+BAD_WRENCH = -1       # not 6 entries, or not finite
+ZERO_WRENCH = -2      # w_ext = 0: no force needed, sigma = 0
 
 
 @njit(cache=True)
-def shoot_and_read_forces(ints, floats, w_ext, ws, method, eps, max_iter, G, table, maps, linf,
-                          full, spin_weight, packed):
+def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, ints, floats, ws, G, table,
+                          maps, linf, full, spin_weight):
     """One compiled call per min_force: z = t r on W by `method` (r = -w_ext), then the forces
     read off Z_W(r). Compiled for one signature (graspforce._signature), so that a wrench of
     another type fails the call with a TypeError (the caller converts it and calls again)
-    instead of compiling anew.
+    instead of compiling anew. The per-call arguments come first, so that the caller appends a
+    wrench space's constant ones as they are.
 
-    Returns (verdict, status, t, t_upper, h_n, iterations, support_calls, singular_steps, k):
-    verdict SHOT with the head of the shot (graspforce._packed), whose arrays go to `packed`
+    Returns the head of the shot (graspforce._packed), whose arrays go to `packed`
     (extra_size(m) + capacity(6, ws) entries) after the extra entries [sigma, forces (m, 4),
     wrenches (m, 6), resultant (6,)] (`force_views`); zero forces and sigma = inf when the ray
-    misses W or leaves it at the origin (to rounding). Or verdict ZERO_WRENCH or BAD_WRENCH and
-    no shot.
+    misses W or leaves it at the origin (to rounding). Or, with no shot, a head whose status is
+    ZERO_WRENCH or BAD_WRENCH.
     """
     ww = 0.0
     for a in range(w_ext.shape[0]):
         ww += w_ext[a] * w_ext[a]
     # x.x is NaN or inf iff an entry is (or the squares overflow)
     if w_ext.shape[0] != 6 or not np.isfinite(ww):
-        return BAD_WRENCH, 0, 0.0, 0.0, 0.0, 0, 0, 0, 0
+        return BAD_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0
     if ww == 0.0:
-        return ZERO_WRENCH, 0, 0.0, 0.0, 0.0, 0, 0, 0, 0
+        return ZERO_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0
     r = -w_ext
     out = shoot(ints, floats, r, ws, method, eps, max_iter)
     t = out[1]
@@ -136,4 +136,4 @@ def shoot_and_read_forces(ints, floats, w_ext, ws, method, eps, max_iter, G, tab
         forces, wrenches, resultant = force_views(packed, m)
         packed[0] = contact_forces(out[9], out[8], 1.0 / t, G, table, maps, linf, full,
                                    spin_weight, forces, wrenches, resultant)
-    return (SHOT,) + pack(out, packed, e)
+    return pack(out, packed, e)

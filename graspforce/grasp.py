@@ -4,7 +4,7 @@ import math
 import numpy as np
 
 from . import _shooters as S
-from ._forces import BAD_WRENCH, SIGNATURE, ZERO_WRENCH, extra_size, shoot_and_read_forces
+from ._forces import BAD_WRENCH, SIGNATURE, ZERO_WRENCH, shoot_and_read_forces
 from ._signature import one_signature
 from ._validate import check_choice, finite_vector
 from .contact import Contact
@@ -55,7 +55,8 @@ class Grasp:
         if space is None:
             check_choice(norm, NORMS, "norm")
             check_choice(magnitude, MAGNITUDES, "magnitude")
-            space = self._spaces[(norm, magnitude)] = WrenchSpace(self.contacts, norm, magnitude)
+            space = self._spaces[(norm, magnitude)] = WrenchSpace(self.contacts, norm, magnitude,
+                                                                     self.contact_matrices)
             one_signature(shoot_and_read_forces, SIGNATURE)
         return space
 
@@ -71,29 +72,26 @@ class Grasp:
         forces are read off the witnesses of Z_W(r).
         """
         space = self._space(norm, magnitude)
-        code = METHODS[check_choice(method, METHODS, "method")]
+        code = METHODS.get(method)
+        if code is None:
+            check_choice(method, METHODS, "method")
         eps, max_iter = check_tolerances(eps, max_iter)
-        W = space.set
-        ints, floats = W.program
-        args = (ints, floats, w_ext, W.witness_size, code, eps, max_iter, self.contact_matrices,
-                space.table, space.maps, norm == "Linf", magnitude == "full", space.spin_weight,
-                np.empty(space.packed_size))
+        packed = np.empty(space.packed_size)
         try:
             # the common call, a float64 (6,) array, goes straight to the compiled code, which
             # also checks it; anything else fails the call (one compiled signature)
-            res = shoot_and_read_forces(*args)
+            head = shoot_and_read_forces(w_ext, code, eps, max_iter, packed, *space.compiled_args)
         except TypeError:
-            res = None
-        if res is None or res[0] == BAD_WRENCH:
+            head = None
+        if head is None or head[0] == BAD_WRENCH:
             # a new C-contiguous, writable float64 array: the type the compiled code takes
             w_ext = np.array(finite_vector(w_ext, "w_ext", 6)[0])
-            res = shoot_and_read_forces(ints, floats, w_ext, *args[3:])
-        verdict, head, packed = res[0], res[1:], args[-1]
-        if verdict == ZERO_WRENCH:
+            head = shoot_and_read_forces(w_ext, code, eps, max_iter, packed, *space.compiled_args)
+        status = head[0]
+        if status == ZERO_WRENCH:
             return self._without_forces(space, "optimal", 0.0, method, None)
         sigma = packed[0]
-        ray = (W, w_ext, head, packed, extra_size(len(self.contacts)))
-        status = head[0]
+        ray = (space.set, w_ext, head, packed, space.extra)
         if status == S.MISS or (status == S.HIT and sigma == math.inf):
             # a separating hyperplane, or a ray that leaves W at the origin: no finite forces
             return self._without_forces(space, "infeasible", math.inf, method, ray)

@@ -54,9 +54,9 @@ def contact_set(contact, magnitude):
 
 class WrenchSpace:
     """W (eq. 14) for a list of contacts, compiled once, with the table that reads contact
-    forces off a witness (`graspforce._forces`)."""
+    forces off a witness (`graspforce._forces`); contact_matrices: the contacts' G_i, (m, 6, 4)."""
 
-    def __init__(self, contacts, norm, magnitude):
+    def __init__(self, contacts, norm, magnitude, contact_matrices):
         self.norm = norm
         self.magnitude = magnitude
         maps = {}                                   # id(leaf) -> (contact index, base, map)
@@ -76,7 +76,13 @@ class WrenchSpace:
         self.spin_weight = np.array([(c.mu / c.mu_spin) ** 2 if c.mu_spin > 0.0 else 0.0
                                      for c in contacts])
         # entries of the array a min_force call fills: the forces, then the shot's arrays
-        self.packed_size = extra_size(len(contacts)) + capacity(6, self.set.witness_size)
+        self.extra = extra_size(len(contacts))
+        self.packed_size = self.extra + capacity(6, self.set.witness_size)
+        # what every min_force call on this space passes to the compiled code after its own
+        # arguments (graspforce._forces.SIGNATURE), gathered once: ~1 us a call saved
+        ints, floats = self.set.program
+        self.compiled_args = (ints, floats, self.set.witness_size, contact_matrices, self.table,
+                              self.maps, norm == "Linf", magnitude == "full", self.spin_weight)
 
     def _table(self, maps):
         """table (4, leaves): per leaf its contact (-1 for the origin of CH({0} U W_i)), the
