@@ -1,0 +1,91 @@
+"""The shooters' step helpers against closed forms and numpy: ZC-based's warm start (which point
+leaves V_k) and Bi-GJK's exit from a simplex proved to hold a point of the ray."""
+import numpy as np
+import pytest
+from scipy.optimize import nnls
+
+from graspforce._distance import scratch
+from graspforce._shooters import _restart, _simplex_exit
+
+
+def on_ray_simplex(rng, n, k, r):
+    """k affinely independent points P (k <= n + 1) and convex weights lam > 0 with
+    b = lam @ P on the ray R(r): P is shifted so that b = r."""
+    P = rng.standard_normal((k, n))
+    lam = rng.uniform(0.2, 1.0, k)
+    lam /= lam.sum()
+    P += r - lam @ P
+    return P, lam
+
+
+@pytest.mark.parametrize("n, k", [(2, 2), (3, 3), (6, 6), (6, 4), (12, 12)])
+def test_restart_keeps_r_along_the_face_in_the_others_cone(n, k):
+    """After the drop, the part r_L of r along aff(V_k) is a nonnegative combination of the
+    kept points' generators P_l - b (nnls residual zero), so that ZC's first residual is r - r_L,
+    normal to aff(V_k). Checked independently: r_L by numpy's least squares, the cone by nnls."""
+    rng = np.random.default_rng(10 * n + k)
+    for _ in range(20):
+        r = rng.standard_normal(n)
+        P0, lam0 = on_ray_simplex(rng, n, k, r)
+        b = lam0 @ P0
+        G = (P0[1:] - P0[0]).T            # directions of aff(V_k)
+        r_L = G @ np.linalg.lstsq(G, r, rcond=None)[0]
+        P = np.vstack([P0, np.zeros((2, n))])
+        Wt = np.zeros((k + 2, 3))
+        Wt[:k, 0] = np.arange(k)          # the rows' identities, to see which one went
+        lam = np.concatenate([lam0, [0.0, 0.0]])
+        kept = _restart(P, Wt, lam, k, r, scratch(n))
+        assert kept == k - 1
+        rows = Wt[:kept, 0].astype(int)
+        assert len(set(rows)) == kept and set(rows) <= set(range(k))
+        assert np.array_equal(P[:kept], P0[rows])
+        _, residual = nnls((P0[rows] - b).T, r_L)
+        assert residual <= 1e-9 * np.linalg.norm(r)
+
+
+def test_restart_drops_negligible_weights_first():
+    """A point of weight below NEGLIGIBLE leaves b on the face of the others; it goes, and one
+    more by the cone rule."""
+    n = 3
+    rng = np.random.default_rng(5)
+    r = rng.standard_normal(n)
+    P0, lam0 = on_ray_simplex(rng, n, n, r)
+    lam0 = np.array([lam0[0], lam0[1], 1e-12])
+    lam0 /= lam0.sum()
+    P = np.vstack([P0, np.zeros((2, n))])
+    Wt = np.zeros((n + 2, 1))
+    Wt[:n, 0] = np.arange(n)
+    lam = np.concatenate([lam0, [0.0, 0.0]])
+    kept = _restart(P, Wt, lam, n, r, scratch(n))
+    assert kept == 1
+    assert Wt[0, 0] != 2
+
+
+@pytest.mark.parametrize("n", [2, 3, 6])
+def test_simplex_exit_is_where_a_barycentric_weight_reaches_zero(n):
+    """The ray leaves CH(P) (n + 1 points) at the largest t with t r in CH(P), computed as an LP
+    by hand: barycentric weights of t r solved by numpy for a fine bracket of t, checked at the
+    returned exit (all >= 0, one zero) and just past it (one negative)."""
+    rng = np.random.default_rng(n)
+    for _ in range(20):
+        r = rng.standard_normal(n)
+        P0, lam0 = on_ray_simplex(rng, n, n + 1, r)
+        t0 = 1.0                          # lam0 @ P0 = r
+        A = np.vstack([P0.T, np.ones(n + 1)])
+        P = P0.copy()
+        Wt = np.zeros((n + 1, 1))
+        Wt[:, 0] = np.arange(n + 1)
+        lam = lam0.copy()
+        M, lu = np.empty((n + 1, n + 1)), np.empty((n + 1, n + 1))
+        t, k = _simplex_exit(P, Wt, lam, n + 1, r, t0, M, lu, np.empty(n + 1, np.int64),
+                             np.empty(n + 1), np.empty(n + 2))
+        assert t > t0 and k == n
+        weights = np.linalg.solve(A, np.append(t * r, 1.0))
+        assert weights.min() >= -1e-12 and np.abs(weights).min() <= 1e-12
+        beyond = np.linalg.solve(A, np.append((t + 1e-6 * t) * r, 1.0))
+        assert beyond.min() < 0.0
+        # the kept points and their weights reproduce the exit point
+        rows = Wt[:k, 0].astype(int)
+        assert np.allclose(lam[:k] @ P[:k], t * r, atol=1e-12 * (1 + np.abs(t * r).max()))
+        assert np.isclose(lam[:k].sum(), 1.0) and lam[:k].min() >= 0.0
+        assert np.array_equal(P[:k], P0[rows])
