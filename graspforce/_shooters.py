@@ -110,6 +110,7 @@ def _on_ray(P, k, b, x, tol, sc):
 
 
 INEXACT_GJK = 1.0   # gjk_based: GJK's tolerance, relative to the last step squared, until eps
+TIGHTEN = 1e-2      # gjk_based: GJK's tolerance after an inexact direction that did not cut the ray
 
 
 @njit(cache=True)
@@ -123,7 +124,10 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
     step's expected size) and b_{k+1} is where the supporting hyperplane H(n_k, s_A(n_k))
     crosses the ray, outside A whatever GJK's accuracy. Once that tolerance reaches eps, eq. (4)
     and Fig. 3b's rule as written. (Ingot W_L1, 300 rays: median support calls 168 -> 80;
-    INEXACT_GJK 0.1 gave 98, 0.01 106.)"""
+    INEXACT_GJK 0.1 gave 98, 0.01 106.) A direction from an unconverged GJK may not cut the ray
+    below b at all, or even point away from it (n^T r <= 0, which only a converged GJK turns into
+    a miss): GJK then goes on from the same b, TIGHTEN times tighter (62 -> 55 calls; before,
+    such a ray fell into the miss test's ZC and was answered by ZC-IE, 59 of 300)."""
     n = r.shape[0]
     rr = dot(r, r)
     P = np.empty((n + 2, n))
@@ -163,9 +167,14 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
         if st == MAX_ITER:
             return _result(LIMIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
         rn = dot(r, nvec)
+        exact = eps_gjk <= eps
+        if not exact and (rn <= 0.0 or h >= t * rn):
+            # an unconverged direction whose hyperplane does not cut the ray below b tells
+            # nothing yet (n^T r <= 0 is no miss before GJK converges): tighten, same b
+            eps_gjk = max(eps, TIGHTEN * eps_gjk)
+            continue
         if rn <= 0.0:
             return _miss(ints, floats, r, ws, eps, it + 1, calls, max_iter)
-        exact = eps_gjk <= eps
         t_next = t - d / rn if exact else min(h / rn, t)
         if t_floor < 0.0:
             t_floor = max(-support(ints, floats, -r, point, wit), 0.0) / rr
