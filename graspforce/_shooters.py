@@ -159,11 +159,16 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
         calls += gc
         if st == INSIDE:
             # b_k = t r is in A: it met the boundary, or rounding in v_A(b_{k-1}) put it inside.
-            # Done if the last supporting hyperplane certifies it, else go on from inside.
+            # Done if the last supporting hyperplane certifies it. Else GJK has reached its
+            # numerical floor (docs/core-api.md): finish from inside, by IE steps from the facet
+            # of GJK's simplex that holds b_k (its facets are solved from the origin and stay
+            # well-conditioned), or by ZC-based steps from a lower face. (Ingot W_L1: 255 of
+            # 300 rays end here; ZC-based steps from the facet, the former finish, stalled
+            # above eps on 70 of them, which the dispatcher's IE then redid from scratch.)
             if t_up - t <= eps * t:
                 return _result(HIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
-            return zc_from(ints, floats, r, ws, eps, max_iter, ZC_ONLY, t, P, Wt, lam, k, it + 1,
-                           calls)
+            return zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE if k == n else ZC_ONLY,
+                           t, P, Wt, lam, k, it + 1, calls)
         if st == MAX_ITER:
             return _result(LIMIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
         rn = dot(r, nvec)
