@@ -586,7 +586,7 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
     (from supporting hyperplanes), each midpoint tested by GJK. When GJK proves a midpoint
     inside with a full simplex of n + 1 points, the inner point moves on to where the ray leaves
     that simplex, not just to the midpoint (`_simplex_exit`): ingot W_L1, median iterations
-    31 -> 4 at the same support calls."""
+    32 -> 6, support calls 74 -> 72."""
     n = r.shape[0]
     rr = dot(r, r)
     P = np.empty((n + 2, n))
