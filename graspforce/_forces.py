@@ -5,6 +5,7 @@ from numba.extending import register_jitable
 
 from ._dispatch import shoot
 from ._jit import borrowing
+from ._linalg import dot
 from ._packed import pack
 from ._shooters import MISS
 from ._signature import INTS, VECTOR
@@ -107,9 +108,7 @@ def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, ints, floats, ws
     misses W or leaves it at the origin (to rounding). Or, with no shot, a head whose status is
     ZERO_WRENCH or BAD_WRENCH.
     """
-    ww = 0.0
-    for a in range(w_ext.shape[0]):
-        ww += w_ext[a] * w_ext[a]
+    ww = dot(w_ext, w_ext)
     # x.x is NaN or inf iff an entry is (or the squares overflow)
     if w_ext.shape[0] != 6 or not np.isfinite(ww):
         return BAD_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0

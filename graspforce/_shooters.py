@@ -159,16 +159,12 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
         calls += gc
         if st == INSIDE:
             # b_k = t r is in A: it met the boundary, or rounding in v_A(b_{k-1}) put it inside.
-            # Done if the last supporting hyperplane certifies it. Else GJK has reached its
-            # numerical floor (docs/core-api.md): finish from inside, by IE steps from the facet
-            # of GJK's simplex that holds b_k (its facets are solved from the origin and stay
-            # well-conditioned), or by ZC-based steps from a lower face. (Ingot W_L1: 255 of
-            # 300 rays end here; ZC-based steps from the facet, the former finish, stalled
-            # above eps on 70 of them, which the dispatcher's IE then redid from scratch.)
+            # Done if the last supporting hyperplane certifies it; else GJK has reached its
+            # numerical floor (ingot W_L1: 255 of 300 rays).
             if t_up - t <= eps * t:
                 return _result(HIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
-            return zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE if k == n else ZC_ONLY,
-                           t, P, Wt, lam, k, it + 1, calls)
+            return _finish_inside(ints, floats, r, ws, eps, max_iter, t, P, Wt, lam, k, it + 1,
+                                  calls)
         if st == MAX_ITER:
             return _result(LIMIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
         rn = dot(r, nvec)
@@ -317,16 +313,15 @@ def _restart(P, Wt, lam, k, r, sc):
     total = 0.0
     for l in range(k):
         total += lam[l]
+    floor = NEGLIGIBLE * total
     l = k - 1
     while l >= 0 and k > 1:
-        if lam[l] <= NEGLIGIBLE * total:
+        if lam[l] <= floor:
+            total -= lam[l]
             k = drop_point(P, Wt, lam, k, l)
         l -= 1
     if k <= 1:
         return 0
-    total = 0.0
-    for l in range(k):
-        total += lam[l]
     n = P.shape[1]
     D, work, rhs, wrhs, x, _ = sc
     for i in range(n):
@@ -581,6 +576,18 @@ def _simplex_exit(P, Wt, lam, k, r, t, M, lu, piv, rhs, mu):
 
 
 @njit(cache=True)
+def _finish_inside(ints, floats, r, ws, eps, max_iter, t, P, Wt, lam, k, it, calls):
+    """GJK-based's and Bi-GJK's finish at GJK's numerical floor (docs/core-api.md), from
+    t r = sum lam_l P_l in A: IE steps from the facet P[:k] when k = n (its facets are solved
+    from the origin and stay well-conditioned), ZC-based steps from a lower face. (Ingot W_L1:
+    ZC-based steps from the facet, the former finish, stalled above eps on 70 of GJK-based's 300
+    rays, which the dispatcher's IE then redid from scratch; Bi-GJK's mean support calls
+    181 -> 131.)"""
+    mode = WITH_IE if k == r.shape[0] else ZC_ONLY
+    return zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, k, it, calls)
+
+
+@njit(cache=True)
 def bi_gjk(ints, floats, r, ws, eps, max_iter):
     """Section 3.4.1: bisection between a point of A on the ray (from ZC) and a point outside
     (from supporting hyperplanes), each midpoint tested by GJK. When GJK proves a midpoint
@@ -625,11 +632,9 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
         if t_up - t_lo <= eps * t_lo:
             return _result(HIT, t_lo, t_up, best_h, it + 1, calls, best_n, Pz, lz, Wz, kz, 0)
         if t_hi - t_lo <= 1e-3 * eps * t_lo:
-            # the bracket closed on points GJK could not certify (its numerical floor): finish
-            # from inside, as GJK-based does, by IE steps from the facet that holds t_lo r, or
-            # by ZC-based steps from a lower face (ingot W_L1: mean support calls 181 -> 131)
-            return zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE if kz == n else ZC_ONLY,
-                           t_lo, Pz, Wz, lz, kz, it + 1, calls)
+            # the bracket closed on points GJK could not certify: its numerical floor
+            return _finish_inside(ints, floats, r, ws, eps, max_iter, t_lo, Pz, Wz, lz, kz,
+                                  it + 1, calls)
         tm = 0.5 * (t_lo + t_hi)
         b = tm * r
         st, k, d, h, gi, gc = gjk(ints, floats, b, P, Wt, lam, k, eps, 0.0, True,

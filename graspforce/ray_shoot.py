@@ -6,6 +6,7 @@ from numba import njit
 
 from . import _shooters as S
 from ._dispatch import shoot
+from ._linalg import dot
 from ._packed import capacity, pack
 from ._validate import check_choice, finite_scalar, finite_vector, positive_int
 from .results import RayShot
@@ -83,9 +84,7 @@ BAD_RAY = -1   # shoot_packed's status for an r that is not finite or is zero
 def shoot_packed(ints, floats, r, ws, method, eps, max_iter, packed):
     """The head of the shot; its arrays into `packed` (graspforce._packed). Status BAD_RAY and
     no shot when r is not finite or is zero."""
-    rr = 0.0
-    for a in range(r.shape[0]):
-        rr += r[a] * r[a]
+    rr = dot(r, r)
     if not (0.0 < rr < np.inf):
         return BAD_RAY, 0.0, 0.0, 0.0, 0, 0, 0, 0
     return pack(shoot(ints, floats, r, ws, method, eps, max_iter), packed, 0)
