@@ -3,12 +3,12 @@ import numpy as np
 from numba import njit, types
 from numba.extending import register_jitable
 
-from ._dispatch import shoot
 from ._jit import borrowing
 from ._linalg import dot
 from ._packed import pack
 from ._shooters import MISS
 from ._signature import INTS, VECTOR
+from ._start_table import shoot_with_table
 
 # rows of a wrench space's leaf table (graspforce.wrench_space.WrenchSpace.table)
 CONTACT, SLOT, SIZE, MAP = 0, 1, 2, 3
@@ -84,7 +84,7 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, f
 
 # the one signature of `shoot_and_read_forces` (graspforce._signature): the per-call arguments,
 # then a wrench space's `compiled_args`
-SIGNATURE = (VECTOR, types.int64, types.float64, types.int64, VECTOR,
+SIGNATURE = (VECTOR, types.int64, types.float64, types.int64, VECTOR, VECTOR,
              INTS, VECTOR, types.int64, types.float64[:, :, ::1], types.int64[:, ::1], VECTOR,
              types.boolean, types.boolean, VECTOR)
 
@@ -94,13 +94,14 @@ ZERO_WRENCH = -2      # w_ext = 0: no force needed, sigma = 0
 
 
 @njit(cache=True)
-def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, ints, floats, ws, G, table,
-                          maps, linf, full, spin_weight):
+def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, start, ints, floats, ws, G,
+                          table, maps, linf, full, spin_weight):
     """One compiled call per min_force: z = t r on W by `method` (r = -w_ext), then the forces
     read off Z_W(r). Compiled for one signature (graspforce._signature), so that a wrench of
     another type fails the call with a TypeError (the caller converts it and calls again)
-    instead of compiling anew. The per-call arguments come first, so that the caller appends a
-    wrench space's constant ones as they are.
+    instead of compiling anew. The per-call arguments come first (start: the wrench set's start
+    table, graspforce._start_table, or an empty array), so that the caller appends a wrench
+    space's constant ones as they are.
 
     Returns the head of the shot (graspforce._packed), whose arrays go to `packed`
     (extra_size(m) + capacity(6, ws) entries) after the extra entries [sigma, forces (m, 4),
@@ -115,7 +116,7 @@ def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, ints, floats, ws
     if ww == 0.0:
         return ZERO_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0
     r = -w_ext
-    out = shoot(ints, floats, r, ws, method, eps, max_iter)
+    out = shoot_with_table(ints, floats, r, ws, method, eps, max_iter, start)
     t = out[1]
     m = G.shape[0]
     V = out[7]

@@ -56,6 +56,12 @@ def param_start(ints, node):
     return int(ints[_block(ints, "pstart", node)])
 
 
+def params_size(ints):
+    """Entries of `floats` that hold parameters (Python side); the scratch the kernel writes
+    follows them."""
+    return int(ints[_block(ints, "dstart")])
+
+
 def children(ints, node):
     """The node indices of a node's children (Python side)."""
     start = _block(ints, "children", ints[_block(ints, "cstart", node)])

@@ -6,6 +6,7 @@ import numpy as np
 from . import _shooters as S
 from ._forces import BAD_WRENCH, SIGNATURE, ZERO_WRENCH, shoot_and_read_forces
 from ._signature import one_signature
+from ._start_table import SEEN_ONCE, UNSEEN, start_table
 from ._validate import check_choice, finite_vector
 from .contact import Contact
 from .quality import facet_expansion, grasp_quality
@@ -76,17 +77,22 @@ class Grasp:
         if code is None:
             check_choice(method, METHODS, "method")
         eps, max_iter = check_tolerances(eps, max_iter)
+        start = space.set._start_table
+        if start is UNSEEN or start is SEEN_ONCE:
+            start = start_table(space.set)
         packed = np.empty(space.packed_size)
         try:
             # the common call, a float64 (6,) array, goes straight to the compiled code, which
             # also checks it; anything else fails the call (one compiled signature)
-            head = shoot_and_read_forces(w_ext, code, eps, max_iter, packed, *space.compiled_args)
+            head = shoot_and_read_forces(w_ext, code, eps, max_iter, packed, start,
+                                         *space.compiled_args)
         except TypeError:
             head = None
         if head is None or head[0] == BAD_WRENCH:
             # a new C-contiguous, writable float64 array: the type the compiled code takes
             w_ext = np.array(finite_vector(w_ext, "w_ext", 6)[0])
-            head = shoot_and_read_forces(w_ext, code, eps, max_iter, packed, *space.compiled_args)
+            head = shoot_and_read_forces(w_ext, code, eps, max_iter, packed, start,
+                                         *space.compiled_args)
         status = head[0]
         if status == ZERO_WRENCH:
             return self._without_forces(space, "optimal", 0.0, method, None)

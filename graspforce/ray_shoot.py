@@ -5,9 +5,9 @@ import numpy as np
 from numba import njit
 
 from . import _shooters as S
-from ._dispatch import shoot
 from ._linalg import dot
 from ._packed import capacity, pack
+from ._start_table import SEEN_ONCE, UNSEEN, shoot_with_table, start_table
 from ._validate import check_choice, finite_scalar, finite_vector, positive_int
 from .results import RayShot
 from .sets import ConvexSet
@@ -54,15 +54,18 @@ def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=10000):
         layout = shot_layout(A)
     ints, floats, ws, size = layout
     eps, max_iter = check_tolerances(eps, max_iter)
+    table = A._start_table
+    if table is UNSEEN or table is SEEN_ONCE:
+        table = start_table(A)
     packed = np.empty(size)
     # the common call, a float64 (n,) array, goes straight to the compiled code, which checks
     # that it is finite and nonzero; anything else, or a refused r, is checked here
     head = None
     if type(r) is np.ndarray and r.dtype == np.float64 and r.shape == (A.dim,):
-        head = shoot_packed(ints, floats, r, ws, code, eps, max_iter, packed)
+        head = shoot_packed(ints, floats, r, ws, code, eps, max_iter, packed, table)
     if head is None or head[0] == BAD_RAY:
         r = check_ray(r, A.dim)
-        head = shoot_packed(ints, floats, r, ws, code, eps, max_iter, packed)
+        head = shoot_packed(ints, floats, r, ws, code, eps, max_iter, packed, table)
     return make_ray_shot(A, r, method, head, packed)
 
 
@@ -81,13 +84,14 @@ BAD_RAY = -1   # shoot_packed's status for an r that is not finite or is zero
 
 
 @njit(cache=True)
-def shoot_packed(ints, floats, r, ws, method, eps, max_iter, packed):
+def shoot_packed(ints, floats, r, ws, method, eps, max_iter, packed, table):
     """The head of the shot; its arrays into `packed` (graspforce._packed). Status BAD_RAY and
-    no shot when r is not finite or is zero."""
+    no shot when r is not finite or is zero. table: the set's start table
+    (graspforce._start_table) or an empty array."""
     rr = dot(r, r)
     if not (0.0 < rr < np.inf):
         return BAD_RAY, 0.0, 0.0, 0.0, 0, 0, 0, 0
-    return pack(shoot(ints, floats, r, ws, method, eps, max_iter), packed, 0)
+    return pack(shoot_with_table(ints, floats, r, ws, method, eps, max_iter, table), packed, 0)
 
 
 def make_ray_shot(A, r, method, head, packed, extra=0):

@@ -8,6 +8,7 @@ with a witness: which leaves produced the point and their leaf-local pre-images.
 import numpy as np
 
 from . import _kernel as K
+from ._start_table import UNSEEN
 from ._validate import finite_array, finite_scalar
 
 
@@ -15,6 +16,7 @@ class ConvexSet:
     """A compact convex set in R^dim, given by its support map."""
 
     dim: int
+    _start_table = UNSEEN      # graspforce._start_table: built at the set's second shot
 
     # -- the tree ---------------------------------------------------------------------------
     def _children(self):

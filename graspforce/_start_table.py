@@ -1,0 +1,183 @@
+"""A start table for many rays shot at one set: the facets of an inner polytope.
+
+ZC-IE (section 3.4.2) begins with ZC from the origin, which spends about n + 1 support calls and as
+many active-set projections to find a first facet that the ray crosses; on the ingot grasp's W_L1
+that search is 4.3 of a shot's 11.4 us (BENCHMARKS.md, "Start table"). When many rays are shot at
+one set (min_force over many wrenches, a ray_shoot loop), the search can be done once for all:
+the support points P_0 of A in the 2n directions +-q_j (q_j a fixed orthonormal basis in general
+position) span an inner polytope CH(P_0) in A. When the origin is strictly inside it, its facets
+y_f^T x = 1 cover every direction, and the ray R(r) leaves CH(P_0) through the facet of largest
+y_f^T r at t_0 r with 1 / t_0 = y_f^T r = sum_j gam_j, r = sum_j gam_j a_j over the facet's
+vertices a_j. That facet is IE's start: a facet of points of A that the ray crosses, farther out
+than ZC's first one.
+
+Nothing of the table is trusted beyond that: t_0 r is the convex combination (gam / sum gam) of
+support points of A, so t_0 <= t* whichever facet the lookup picked; IE's steps and stopping rule
+are unchanged. The table keeps a copy of the set's parameters and is ignored when they changed
+(graspforce._growth rewrites a set's poses in place), and when the ray meets a ridge of CH(P_0)
+(some gam_j < 0 by rounding): ZC then starts from the origin as usual.
+
+A table costs 2n support calls, a convex hull (scipy's Qhull) and one inverse per facet: ~1 ms
+in R^6 (F = 90 facets on the ingot), ~10 ms in R^10 with F ~ 2000, where the lookup's F n
+products would cost more than the ZC search they replace; so tables are built for n <= MAX_DIM
+only, at a set's second shot (a set shot once never pays for one).
+"""
+import numpy as np
+from numba import njit
+from scipy.spatial import ConvexHull, QhullError
+
+from ._dispatch import shoot
+from ._jit import borrowing
+from ._kernel import params_size
+from ._shooters import WITH_IE, WITH_NEWTON, ZC_IE, ZC_IE_NEWTON, zc_from
+
+MAX_DIM = 8
+MAX_BASES = 3         # bases of directions tried for an inner polytope around the origin
+HEADER = 5            # [facets F, n, witness size, parameters, points]
+CONVEX_TOL = 1e-6     # y_f^T p <= 1 + CONVEX_TOL for every point p: y_f supports CH(P_0)
+MAX_COND = 1e10       # condition number of a facet's vertex matrix kept in the table
+
+# a set's table state (ConvexSet._start_table): not shot yet, shot once, or no table (not
+# applicable: n too large, a flat set, the origin not strictly inside CH(P_0))
+UNSEEN = np.empty(0)
+SEEN_ONCE = np.empty(0)
+NO_TABLE = np.empty(0)
+
+
+def start_table(A):
+    """The table to pass with a shot at A (NO_TABLE on its first shot; built at its second)."""
+    state = A._start_table
+    if state is UNSEEN:
+        A._start_table = SEEN_ONCE
+        return NO_TABLE
+    if state is SEEN_ONCE:
+        A._start_table = build_start_table(A)
+    return A._start_table
+
+
+def _directions(n, bases):
+    """+-q_j for `bases` fixed orthonormal bases q in general position: the coordinate axes of a
+    wrench space are special (two contacts' extreme forces along one axis coincide, and CH(P_0)
+    then has the origin on its boundary); seeded random rotations are not."""
+    rng = np.random.default_rng(n)
+    out = []
+    for _ in range(bases):
+        q, _ = np.linalg.qr(rng.normal(size=(n, n)))
+        out += [q, -q]
+    return np.vstack(out)
+
+
+def build_start_table(A):
+    """The start table of A as one float array (layout in `table_start`), or NO_TABLE.
+
+    P_0 from one basis (2n directions) first; more bases only when the origin is not strictly
+    inside CH(P_0): more directions bring t_0 closer to t* but not IE's steps fewer (the ingot:
+    4n directions gave t_0 / t* = 0.86 against 0.33, the same median of 17 support calls, and
+    597 facets to look up against 87)."""
+    n = A.dim
+    if not 2 <= n <= MAX_DIM:
+        return NO_TABLE
+    for bases in range(1, MAX_BASES + 1):
+        table = _table(A, _directions(n, bases))
+        if table is not NO_TABLE:
+            return table
+    return NO_TABLE
+
+
+def _table(A, directions):
+    """The table of P_0 = the support points of A in `directions`, or NO_TABLE."""
+    rows = [A._support(u) for u in directions]
+    points, keep = np.unique(np.array([row[1] for row in rows]), axis=0, return_index=True)
+    witnesses = np.array([rows[i][2] for i in keep])
+    try:
+        # joggled: every facet a simplex of n points (Qhull's triangulation of a merged facet
+        # may leave flat ones)
+        faces = ConvexHull(points, qhull_options="QJ").simplices
+    except QhullError:
+        return NO_TABLE            # P_0 spans less than R^n: a flat set
+    vertices = np.transpose(points[faces], (0, 2, 1))
+    # facets whose vertices are nearly dependent (the origin near their hyperplane, or two
+    # support points nearly equal) would give inaccurate weights: left out, their rays start cold
+    faces = faces[np.linalg.cond(vertices) < MAX_COND]
+    if len(faces) == 0:
+        return NO_TABLE
+    # gam = B_f r: B_f inverts the matrix whose columns are the facet's vertices
+    inverse = np.linalg.inv(np.transpose(points[faces], (0, 2, 1)))
+    normals = inverse.sum(axis=1)         # y_f = B_f^T 1
+    if (points @ normals.T).max() > 1.0 + CONVEX_TOL:
+        # some y_f^T x = 1 does not support CH(P_0) with the origin inside: the origin is
+        # outside CH(P_0)
+        return NO_TABLE
+    ints, floats = A.program
+    npar = params_size(ints)
+    header = [len(faces), A.dim, A.witness_size, npar, len(points)]
+    return np.concatenate((header, floats[:npar], normals.ravel(), inverse.ravel(),
+                           faces.ravel(), points.ravel(), witnesses.ravel())).astype(float)
+
+
+@borrowing
+def table_start(table, floats, r, P, Wt, lam):
+    """t_0 > 0 with the facet of the table's CH(P_0) that R(r) leaves through in P[:n], Wt[:n]
+    and its weights lam[:n] (t_0 r = sum lam_j P_j); 0.0 when the table does not apply.
+
+    table = [F, n, ws, npar, npts, the set's parameters (npar), y_f (F, n), B_f (F, n, n),
+    vertex indices (F, n), points (npts, n), witnesses (npts, ws)]."""
+    n = r.shape[0]
+    if table.shape[0] == 0 or int(table[1]) != n:
+        return 0.0
+    F = int(table[0])
+    ws = int(table[2])
+    npar = int(table[3])
+    for i in range(npar):
+        if floats[i] != table[HEADER + i]:
+            return 0.0
+    y0 = HEADER + npar
+    b0 = y0 + F * n
+    i0 = b0 + F * n * n
+    p0 = i0 + F * n
+    w0 = p0 + int(table[4]) * n
+    best = 0.0
+    f = -1
+    for g in range(F):
+        s = 0.0
+        for a in range(n):
+            s += table[y0 + g * n + a] * r[a]
+        if s > best:
+            best = s
+            f = g
+    if f < 0:
+        return 0.0
+    total = 0.0
+    for j in range(n):
+        s = 0.0
+        for a in range(n):
+            s += table[b0 + (f * n + j) * n + a] * r[a]
+        if s < 0.0:
+            return 0.0
+        lam[j] = s
+        total += s
+    t = 1.0 / total
+    for j in range(n):
+        lam[j] *= t
+        v = int(table[i0 + f * n + j])
+        for a in range(n):
+            P[j, a] = table[p0 + v * n + a]
+        for a in range(ws):
+            Wt[j, a] = table[w0 + v * ws + a]
+    return t
+
+
+@njit(cache=True)
+def shoot_with_table(ints, floats, r, ws, method, eps, max_iter, table):
+    """`shoot` (graspforce._dispatch), with ZC-IE's steps started on the table's facet when the
+    table applies (module docstring); the table's own support calls are not counted."""
+    if (method == ZC_IE or method == ZC_IE_NEWTON) and table.shape[0] > 0:
+        n = r.shape[0]
+        P = np.empty((n + 2, n))
+        Wt = np.empty((n + 2, ws))
+        lam = np.empty(n + 2)
+        t = table_start(table, floats, r, P, Wt, lam)
+        if t > 0.0:
+            mode = WITH_IE if method == ZC_IE else WITH_NEWTON
+            return zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, n, 0, 0)
+    return shoot(ints, floats, r, ws, method, eps, max_iter)

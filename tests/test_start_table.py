@@ -1,0 +1,162 @@
+"""The start table of repeated shots (graspforce._start_table): its facet is the exit of the ray
+from the inner polytope CH(P_0) (LP truth), shots started from it keep the contract, and it is
+ignored wherever it would not be sound (changed parameters, origin outside, flat sets)."""
+import numpy as np
+import pytest
+
+import graspforce as gf
+import graspforce._start_table as ST
+import truth as T
+from conftest import build, random_polytope
+from benchmarks.grasp_sets import ingot_grasp_sets
+from grasps import box_grasp, random_wrenches
+
+ZC_IE_METHODS = ("zc-ie", "zc-ie-newton")
+
+
+def _table_parts(table):
+    """(points, witnesses) of a start table."""
+    F, n, ws, npar, npts = (int(v) for v in table[:ST.HEADER])
+    p0 = ST.HEADER + npar + F * n + F * n * n + F * n
+    points = table[p0:p0 + npts * n].reshape(npts, n)
+    return points, table[p0 + npts * n:p0 + npts * (n + ws)].reshape(npts, ws)
+
+
+def _start(A, r):
+    """table_start run from Python: (t_0, facet points, weights, witness rows)."""
+    n = A.dim
+    P, Wt, lam = np.empty((n + 2, n)), np.empty((n + 2, A.witness_size)), np.empty(n + 2)
+    t = ST.table_start(A._start_table, A.program[1], np.asarray(r, float), P, Wt, lam)
+    return t, P[:n], lam[:n], Wt[:n]
+
+
+@pytest.mark.parametrize("n", range(2, 9))
+def test_start_is_the_exit_of_the_inner_polytope(n):
+    rng = np.random.default_rng(50 + n)
+    A = gf.Polytope(random_polytope(rng, n))
+    A._start_table = ST.build_start_table(A)
+    assert A._start_table.size > 0
+    points, witnesses = _table_parts(A._start_table)
+    for p, w in zip(points, witnesses):
+        # every table point is a support point of A, with its witness (a vertex of V)
+        assert np.allclose(A.witness_point(A.decode_witness(w)), p, atol=1e-12)
+    for _ in range(20):
+        r = rng.standard_normal(n)
+        t, P, lam, Wt = _start(A, r)
+        hit, t_lp, _ = T.ray_shoot_lp(points, r)
+        assert hit
+        if t == 0.0:
+            continue        # the ray met a ridge of CH(P_0): a cold start, measure zero
+        assert abs(t - t_lp) <= 1e-9 * t_lp
+        assert lam.min() >= 0.0 and abs(lam.sum() - 1.0) <= 1e-12
+        assert np.allclose(lam @ P, t * r, atol=1e-12 * (1 + t * np.linalg.norm(r)))
+        for p, w in zip(P, Wt):
+            assert np.allclose(A.witness_point(A.decode_witness(w)), p, atol=1e-12)
+
+
+@pytest.mark.parametrize("method", ZC_IE_METHODS)
+@pytest.mark.parametrize("n", range(2, 9))
+def test_repeated_shots_use_the_table_and_keep_the_contract(method, n, check_shot):
+    rng = np.random.default_rng(70 + n)
+    V = random_polytope(rng, n)
+    d = T.poly(V)
+    A = build(d)
+    rays = [rng.standard_normal(n) for _ in range(12)]
+    for i, r in enumerate(rays):
+        res = gf.ray_shoot(A, r, method=method)
+        assert (A._start_table.size > 0) == (i >= 1)
+        hit, t, _ = T.ray_shoot_lp(V, r)
+        check_shot(A, d, r, res, hit, t, method)
+
+
+def test_ingot_table_saves_the_search():
+    # the ingot grasp's W_L1 (paper section 5.2, benchmarks/grasp_sets.py)
+    W, _ = ingot_grasp_sets()
+    cold, _ = ingot_grasp_sets()
+    cold._start_table = ST.NO_TABLE
+    rng = np.random.default_rng(3)
+    calls_table, calls_cold = [], []
+    for _ in range(200):
+        r = rng.standard_normal(6) * np.array([1, 1, 1, 0.05, 0.05, 0.05])
+        shot, ref = gf.ray_shoot(W, r), gf.ray_shoot(cold, r)
+        assert shot.hit and abs(shot.t - ref.t) <= 2e-9 * ref.t
+        calls_table.append(shot.support_calls)
+        calls_cold.append(ref.support_calls)
+    assert W._start_table.size > 0
+    # the table replaces ZC's search for a first facet (~n + 1 support calls), though IE then
+    # needs a step or two more on some rays (1000 rays: median saving 5, worse on 20%)
+    assert np.median(np.array(calls_cold) - np.array(calls_table)) >= 3
+
+
+@pytest.mark.parametrize("norm", ["L1", "Linf"])
+def test_min_force_with_table_agrees_with_clarabel(norm):
+    from graspforce.baselines import clarabel_socp
+    grasp = box_grasp()
+    for w in random_wrenches(15, 11):
+        res = grasp.min_force(w, norm=norm)
+        ref = clarabel_socp.min_force(grasp, w, norm=norm)
+        assert res.feasible and ref.feasible
+        assert abs(res.sigma - ref.sigma) <= 1e-6 * ref.sigma
+        assert np.allclose(res.resultant, -w, atol=1e-9 * np.abs(w).max())
+    assert grasp._space(norm, "normal").set._start_table.size > 0
+
+
+def test_table_ignored_once_the_parameters_change(check_shot):
+    rng = np.random.default_rng(5)
+    n = 4
+    V = random_polytope(rng, n)
+    A = gf.Polytope(V)
+    r = rng.standard_normal(n)
+    gf.ray_shoot(A, r)
+    gf.ray_shoot(A, r)
+    assert A._start_table.size > 0
+    # shrink the polytope in place, as graspforce._growth rewrites a pose: the table's points
+    # now lie outside A, and a start from them would overshoot z_A(r)
+    ints, floats = A.program
+    start = gf._kernel.param_start(ints, 0)
+    floats[start + 2:start + 2 + V.size] *= 0.5
+    t0, _, _, _ = _start(A, r)
+    assert t0 == 0.0
+    res = gf.ray_shoot(A, r)
+    hit, t, _ = T.ray_shoot_lp(0.5 * V, r)
+    check_shot(gf.Polytope(0.5 * V), T.poly(0.5 * V), r, res, hit, t, "zc-ie")
+
+
+def test_no_table_where_it_would_not_be_sound():
+    rng = np.random.default_rng(9)
+    # origin outside
+    V = random_polytope(rng, 5, shift=np.full(5, 4.0))
+    assert ST.build_start_table(gf.Polytope(V)) is ST.NO_TABLE
+    # a flat set: a disk in R^3
+    disk = gf.Ellipsoid(np.zeros(3), np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]))
+    assert ST.build_start_table(disk) is ST.NO_TABLE
+    # dimensions above MAX_DIM
+    assert ST.build_start_table(gf.Ball(np.zeros(ST.MAX_DIM + 1), 1.0)) is ST.NO_TABLE
+
+
+@pytest.mark.parametrize("n", [3, 6])
+def test_origin_at_a_vertex(n, check_shot):
+    # the facets through the origin are singular and left out of the table; rays into A start
+    # from the others or cold, rays out of A miss (t* = 0)
+    rng = np.random.default_rng(20 + n)
+    V = random_polytope(rng, n)
+    V = V - V[0]
+    d = T.poly(V)
+    A = build(d)
+    for _ in range(15):
+        r = rng.standard_normal(n)
+        hit, t, _ = T.ray_shoot_lp(V, r)
+        res = gf.ray_shoot(A, r)
+        if hit and t > 1e-12:
+            check_shot(A, d, r, res, hit, t, "zc-ie")
+        else:
+            assert res.t <= 1e-9
+
+
+def test_first_shot_builds_nothing():
+    A = gf.Ball(np.zeros(3), 1.0)
+    assert A._start_table is ST.UNSEEN
+    gf.ray_shoot(A, [1.0, 0.0, 0.0])
+    assert A._start_table is ST.SEEN_ONCE
+    gf.ray_shoot(A, [0.0, 1.0, 0.0])
+    assert A._start_table.size > 0
