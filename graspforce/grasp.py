@@ -5,7 +5,7 @@ import numpy as np
 
 from . import _shooters as S
 from ._forces import BAD_WRENCH, SIGNATURE, ZERO_WRENCH, shoot_and_read_forces
-from ._signature import one_signature
+from ._signature import entry_point, is_vector
 from ._start_table import SEEN_ONCE, UNSEEN, start_table
 from ._validate import check_choice, finite_vector
 from .contact import Contact
@@ -58,7 +58,7 @@ class Grasp:
             check_choice(magnitude, MAGNITUDES, "magnitude")
             space = self._spaces[(norm, magnitude)] = WrenchSpace(self.contacts, norm, magnitude,
                                                                      self.contact_matrices)
-            one_signature(shoot_and_read_forces, SIGNATURE)
+            space.shoot = entry_point(shoot_and_read_forces, SIGNATURE)
         return space
 
     def min_force(self, w_ext, norm="L1", magnitude="normal", method="zc-ie", eps=1e-9,
@@ -81,18 +81,15 @@ class Grasp:
         if start is UNSEEN or start is SEEN_ONCE:
             start = start_table(space.set)
         packed = np.empty(space.packed_size)
-        try:
-            # the common call, a float64 (6,) array, goes straight to the compiled code, which
-            # also checks it; anything else fails the call (one compiled signature)
-            head = shoot_and_read_forces(w_ext, code, eps, max_iter, packed, start,
-                                         *space.compiled_args)
-        except TypeError:
-            head = None
+        # the common call, a float64 (6,) array, goes straight to the compiled code, which also
+        # checks it; anything else, or a refused wrench, is converted or refused here
+        head = None
+        if is_vector(w_ext):
+            head = space.shoot(w_ext, code, eps, max_iter, packed, start, *space.compiled_args)
         if head is None or head[0] == BAD_WRENCH:
-            # a new C-contiguous, writable float64 array: the type the compiled code takes
+            # a new C-contiguous float64 array: the type the compiled code takes
             w_ext = np.array(finite_vector(w_ext, "w_ext", 6)[0])
-            head = shoot_and_read_forces(w_ext, code, eps, max_iter, packed, start,
-                                         *space.compiled_args)
+            head = space.shoot(w_ext, code, eps, max_iter, packed, start, *space.compiled_args)
         status = head[0]
         if status == ZERO_WRENCH:
             return self._without_forces(space, "optimal", 0.0, method, None)

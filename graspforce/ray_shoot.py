@@ -2,11 +2,12 @@
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, types
 
 from . import _shooters as S
 from ._linalg import dot
 from ._packed import capacity, pack
+from ._signature import INTS, VECTOR, entry_point, is_vector
 from ._start_table import SEEN_ONCE, UNSEEN, shoot_with_table, start_table
 from ._validate import check_choice, finite_scalar, finite_vector, positive_int
 from .results import RayShot
@@ -52,7 +53,7 @@ def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=10000):
     layout = getattr(A, "_shot_layout", None)
     if layout is None:
         layout = shot_layout(A)
-    ints, floats, ws, size = layout
+    ints, floats, ws, size, compiled = layout
     eps, max_iter = check_tolerances(eps, max_iter)
     table = A._start_table
     if table is UNSEEN or table is SEEN_ONCE:
@@ -61,26 +62,30 @@ def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=10000):
     # the common call, a float64 (n,) array, goes straight to the compiled code, which checks
     # that it is finite and nonzero; anything else, or a refused r, is checked here
     head = None
-    if type(r) is np.ndarray and r.dtype == np.float64 and r.shape == (A.dim,):
-        head = shoot_packed(ints, floats, r, ws, code, eps, max_iter, packed, table)
+    if is_vector(r) and r.shape[0] == A.dim:
+        head = compiled(ints, floats, r, ws, code, eps, max_iter, packed, table)
     if head is None or head[0] == BAD_RAY:
-        r = check_ray(r, A.dim)
-        head = shoot_packed(ints, floats, r, ws, code, eps, max_iter, packed, table)
+        r = np.ascontiguousarray(check_ray(r, A.dim))
+        head = compiled(ints, floats, r, ws, code, eps, max_iter, packed, table)
     return make_ray_shot(A, r, method, head, packed)
 
 
 def shot_layout(A):
-    """(ints, floats, witness size, entries of the packed result) of every shot on A, kept on A:
-    read there, they cost one attribute lookup instead of ~0.6 us of properties per call."""
+    """(ints, floats, witness size, entries of the packed result, compiled shoot_packed) of every
+    shot on A, kept on A: read there, they cost one attribute lookup instead of ~0.6 us of
+    properties per call."""
     if not isinstance(A, ConvexSet):
         raise TypeError(f"A: expected a graspforce convex set, got {type(A).__name__}")
     ints, floats = A.program
     ws = A.witness_size
-    A._shot_layout = (ints, floats, ws, capacity(A.dim, ws))
+    A._shot_layout = (ints, floats, ws, capacity(A.dim, ws),
+                      entry_point(shoot_packed, SHOT_SIGNATURE))
     return A._shot_layout
 
 
 BAD_RAY = -1   # shoot_packed's status for an r that is not finite or is zero
+SHOT_SIGNATURE = (INTS, VECTOR, VECTOR, types.int64, types.int64, types.float64, types.int64,
+                  VECTOR, VECTOR)
 
 
 @njit(cache=True)

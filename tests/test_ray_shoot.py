@@ -457,3 +457,27 @@ def test_record_matches_the_compiled_result(method):
     assert res.error_bound == ((res.t_upper - res.t) * np.linalg.norm(r) if res.hit else np.inf)
     for row, witness in zip(res.vertices, res.witnesses):
         np.testing.assert_allclose(A.witness_point(witness), row, atol=1e-12)
+
+
+def test_rays_of_any_type_and_layout_agree():
+    # the compiled call takes a C-contiguous float64 (n,) array without checking it
+    # (graspforce._signature.entry_point); every other r is converted on the way: never a
+    # misread array, a new compilation or a different answer
+    from graspforce.ray_shoot import shoot_packed
+    A = gf.hull(gf.Ball([0.2, 0.0, 0.1], 1.0), gf.Box([0.5, 1.5, 0.7]))
+    r = np.array([0.3, -1.0, 2.0])
+    gf.ray_shoot(A, r)
+    ref = gf.ray_shoot(A, r)        # the second shot and all that follow use the start table
+    frozen = r.copy()
+    frozen.flags.writeable = False
+    for same in (r.tolist(), tuple(r), frozen, np.repeat(r, 2)[::2], r.reshape(1, 3)[0],
+                 np.array([3, -10, 20]) / 10.0,
+                 np.asfortranarray(r[None, :])[0]):
+        res = gf.ray_shoot(A, same)
+        assert res.t == ref.t and np.array_equal(res.point, ref.point)
+    assert gf.ray_shoot(A, np.array([0, 0, 1])).t == gf.ray_shoot(A, np.array([0.0, 0, 1])).t
+    assert len(shoot_packed.signatures) == 1
+    for bad in (np.array([1.0, 2.0]), np.zeros((3, 1)), np.array([1.0, np.nan, 0.0]),
+                np.zeros(3), np.arange(6.0)[::2][:2]):
+        with pytest.raises(ValueError, match="r"):
+            gf.ray_shoot(A, bad)
