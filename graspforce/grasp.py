@@ -37,6 +37,11 @@ class Grasp:
     def __len__(self):
         return len(self.contacts)
 
+    def __getstate__(self):
+        # the wrench spaces are caches built on first use, and hold compiled entry points that do
+        # not pickle
+        return {**self.__dict__, "_spaces": {}}
+
     @property
     def matrix(self):
         """[G_1 ... G_m] of eq. (11), (6, 4m): maps the stacked local forces to the resultant."""

@@ -52,6 +52,14 @@ class ConvexSet:
             size = self._witness_size = int(sum(size for _, size in self._witness_slots))
         return size
 
+    def __getstate__(self):
+        # what ray_shoot keeps on the set is rebuilt on demand: its compiled entry point does not
+        # pickle, and a start table is built again after two shots (graspforce._start_table)
+        state = self.__dict__.copy()
+        state.pop("_shot_layout", None)
+        state.pop("_start_table", None)
+        return state
+
     def support(self, u):
         """(h_A(u), s_A(u)) of eq. (2)."""
         h, point, _ = self._support(u)

@@ -160,3 +160,25 @@ def test_first_shot_builds_nothing():
     assert A._start_table is ST.SEEN_ONCE
     gf.ray_shoot(A, [0.0, 1.0, 0.0])
     assert A._start_table.size > 0
+
+
+def test_sets_and_grasps_pickle_after_use():
+    # what a shot leaves on a set or grasp (compiled entry points, start tables) is rebuilt on
+    # demand after unpickling: dask ships sets and grasps to its workers
+    import pickle
+    A = gf.hull(gf.Ball(np.zeros(3), 1.0), gf.Box([0.5, 1.5, 0.7]))
+    r = np.array([0.3, -1.0, 2.0])
+    for _ in range(3):
+        ref = gf.ray_shoot(A, r)
+    B = pickle.loads(pickle.dumps(A))
+    assert B._start_table is ST.UNSEEN
+    for _ in range(3):
+        res = gf.ray_shoot(B, r)
+    assert abs(res.t - ref.t) <= 1e-9 * ref.t and B._start_table.size > 0
+    grasp = box_grasp()
+    w = random_wrenches(1, 4)[0]
+    for _ in range(3):
+        ref = grasp.min_force(w)
+    copy = pickle.loads(pickle.dumps(grasp))
+    assert abs(copy.min_force(w).sigma - ref.sigma) <= 1e-9 * ref.sigma
+    assert grasp.min_force(w).sigma == ref.sigma
