@@ -21,10 +21,11 @@ def one_signature(dispatcher, signature):
 
 def entry_point(dispatcher, signature):
     """The compiled function of `one_signature(dispatcher, signature)` itself, called without
-    Numba's dispatch, which types every argument anew on each call (~0.5 us of a call with nine
-    arguments, measured in benchmarks/ab.py). It unboxes its arguments as `signature` says
-    without checking them: an array of another dtype, rank or layout would be misread, not
-    refused, so callers pass it only arguments of exactly those types (`is_vector`)."""
+    Numba's dispatch, which types every argument anew on each call (~0.45 us of a ray_shoot
+    call, ~0.7 us of a min_force call, timed interleaved; BENCHMARKS.md). It unboxes its
+    arguments as `signature` says without checking them: an array of another dtype, rank or
+    layout would be misread, not refused, so callers pass it only arguments of exactly those
+    types (`is_vector`)."""
     one_signature(dispatcher, signature)
     return dispatcher.overloads[dispatcher.signatures[0]].entry_point
 
