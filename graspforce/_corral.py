@@ -57,7 +57,7 @@ def reproduce(P, x, k, b):
     return True
 
 
-@borrowing(forceinline=True)
+@borrowing
 def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x, house, fact):
     """Reduce the simplex P[:k] (the last row just added, weight 0) to the minimal subset whose
     hull (affine=True: convex combinations) or cone (affine=False: nonnegative combinations of
@@ -71,10 +71,6 @@ def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x, house, f
     Returns (k, newest_kept, fact): newest_kept is False when the new point brought no
     improvement or was numerically dependent on the others, which the callers read as "no
     progress"; fact for the next call.
-
-    Inlined into GJK and ZC with `lstsq_append`: as calls, their fourteen and nine arguments
-    (arrays pass as seven fields each) cost ZC's search from the origin on the ingot's W_L1
-    0.6 of its 3.4 us of projections (a compiled replay of its support points).
     """
     n = P.shape[1]
     off = 1 if affine else 0     # row j of P is column j - off of D
