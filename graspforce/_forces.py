@@ -97,9 +97,9 @@ ZERO_WRENCH = -2      # w_ext = 0: no force needed, sigma = 0
 def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, start, ints, floats, ws, G,
                           table, maps, linf, full, spin_weight):
     """One compiled call per min_force: z = t r on W by `method` (r = -w_ext), then the forces
-    read off Z_W(r). Compiled for one signature (graspforce._signature), so that a wrench of
-    another type fails the call with a TypeError (the caller converts it and calls again)
-    instead of compiling anew. The per-call arguments come first (start: the wrench set's start
+    read off Z_W(r). Compiled for one signature and called through its entry point
+    (graspforce._signature.entry_point): the caller passes only a C-contiguous float64 wrench and
+    converts any other first. The per-call arguments come first (start: the wrench set's start
     table, graspforce._start_table, or an empty array), so that the caller appends a wrench
     space's constant ones as they are.
 

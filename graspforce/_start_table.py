@@ -8,8 +8,7 @@ the support points P_0 of A in the 2n directions +-q_j (q_j a fixed orthonormal 
 position) span an inner polytope CH(P_0) in A. When the origin is strictly inside it, its facets
 y_f^T x = 1 cover every direction, and the ray R(r) leaves CH(P_0) through the facet of largest
 y_f^T r at t_0 r with 1 / t_0 = y_f^T r = sum_j gam_j, r = sum_j gam_j a_j over the facet's
-vertices a_j. That facet is IE's start: a facet of points of A that the ray crosses, farther out
-than ZC's first one.
+vertices a_j. That facet is IE's start: a facet of points of A that the ray crosses.
 
 Nothing of the table is trusted beyond that: t_0 r is the convex combination (gam / sum gam) of
 support points of A, so t_0 <= t* whichever facet the lookup picked; IE's steps and stopping rule
@@ -18,7 +17,7 @@ are unchanged. The table keeps a copy of the set's parameters and is ignored whe
 (some gam_j < 0 by rounding): ZC then starts from the origin as usual.
 
 A table costs 2n support calls, a convex hull (scipy's Qhull) and one inverse per facet: ~1 ms
-in R^6 (F = 90 facets on the ingot), ~10 ms in R^10 with F ~ 2000, where the lookup's F n
+in R^6 (F = 87 facets on the ingot), ~10 ms in R^10 with F ~ 2000, where the lookup's F n
 products would cost more than the ZC search they replace; so tables are built for n <= MAX_DIM
 only, at a set's second shot (a set shot once never pays for one).
 """

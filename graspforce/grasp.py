@@ -6,7 +6,7 @@ import numpy as np
 from . import _shooters as S
 from ._forces import BAD_WRENCH, SIGNATURE, ZERO_WRENCH, shoot_and_read_forces
 from ._signature import entry_point, is_vector
-from ._start_table import SEEN_ONCE, UNSEEN, start_table
+from ._start_table import start_table
 from ._validate import check_choice, finite_vector
 from .contact import Contact
 from .quality import facet_expansion, grasp_quality
@@ -82,9 +82,7 @@ class Grasp:
         if code is None:
             check_choice(method, METHODS, "method")
         eps, max_iter = check_tolerances(eps, max_iter)
-        start = space.set._start_table
-        if start is UNSEEN or start is SEEN_ONCE:
-            start = start_table(space.set)
+        start = start_table(space.set)
         packed = np.empty(space.packed_size)
         # the common call, a float64 (6,) array, goes straight to the compiled code, which also
         # checks it; anything else, or a refused wrench, is converted or refused here

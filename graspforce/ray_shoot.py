@@ -8,7 +8,7 @@ from . import _shooters as S
 from ._linalg import dot
 from ._packed import capacity, pack
 from ._signature import INTS, VECTOR, entry_point, is_vector
-from ._start_table import SEEN_ONCE, UNSEEN, shoot_with_table, start_table
+from ._start_table import shoot_with_table, start_table
 from ._validate import check_choice, finite_scalar, finite_vector, positive_int
 from .results import RayShot
 from .sets import ConvexSet
@@ -55,9 +55,7 @@ def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=10000):
         layout = shot_layout(A)
     ints, floats, ws, size, compiled = layout
     eps, max_iter = check_tolerances(eps, max_iter)
-    table = A._start_table
-    if table is UNSEEN or table is SEEN_ONCE:
-        table = start_table(A)
+    table = start_table(A)
     packed = np.empty(size)
     # the common call, a float64 (n,) array, goes straight to the compiled code, which checks
     # that it is finite and nonzero; anything else, or a refused r, is checked here
