@@ -4,6 +4,7 @@ from numba import njit, types
 from numba.extending import register_jitable
 
 from ._jit import borrowing
+from ._kernel import blocks
 from ._linalg import dot
 from ._packed import pack
 from ._shooters import MISS
@@ -37,12 +38,14 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, f
     filled in, for z = sum_k weights_k v_k = t r, scale = 1/t, G (m, 6, 4) the contacts' G_i of
     eq. (11).
 
-    Every vertex v_k of Z_W(r) is a sum (Linf) or one (L1) of wrenches G_i u_ki with u_ki a unit
-    contact force, recovered from the vertex's witness row as base + map @ local (table: per
+    Every vertex v_k of Z_W(r) holds one wrench G_i u_ki (W_L1, or the lift of W_Linf, whose
+    vertices' weights sum to 1/m per contact) or a sum of them (W_Linf itself), u_ki a unit
+    contact force recovered from the vertex's witness row as base + map @ local (table: per
     leaf its contact, witness slot, local size and offset in maps). Then
     r = sum_i G_i f_i with f_i = sum_k (weights_k / t) u_ki: the forces resist w_ext = -r exactly,
-    up to the rounding of the simplex. sigma is their objective (eq. 13 or 15), <= 1/t by the
-    triangle inequality (equal when each contact appears in one vertex). For the full magnitude
+    up to the rounding of the simplex. sigma is their objective (eq. 13 or 15), <= 1/t (1/(m t)
+    on the lift) by the triangle inequality (equal when each contact appears in one vertex). For
+    the full magnitude
     spin_weight holds (mu_i / mu_si)^2 per contact (0 for point contacts), the weight of f_4^2 in
     ||f_i||.
     """
@@ -83,7 +86,7 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, f
 
 
 # the one signature of `shoot_and_read_forces` (graspforce._signature): the per-call arguments,
-# then a wrench space's `compiled_args`
+# then a wrench space Target's `compiled_args`
 SIGNATURE = (VECTOR, types.int64, types.float64, types.int64, VECTOR, VECTOR,
              INTS, VECTOR, types.int64, types.float64[:, :, ::1], types.int64[:, ::1], VECTOR,
              types.boolean, types.boolean, VECTOR)
@@ -115,7 +118,11 @@ def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, start, ints, flo
         return BAD_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0
     if ww == 0.0:
         return ZERO_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0
-    r = -w_ext
+    # r = -w_ext, after the lift's m - 1 zeros for Linf (graspforce.wrench_space)
+    n = ints[blocks(ints[0])[1]]
+    r = np.zeros(n)
+    for a in range(6):
+        r[n - 6 + a] = -w_ext[a]
     out = shoot_with_table(ints, floats, r, ws, method, eps, max_iter, start)
     t = out[1]
     m = G.shape[0]

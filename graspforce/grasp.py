@@ -75,37 +75,39 @@ class Grasp:
         maximum; magnitude "normal" measures a contact by its normal force f_1 (eq. 13), "full" by
         ||f|| (eq. 15). The minimum is 1/t for the farthest point t r of W (eq. 14) on the ray
         R(r), r = -w_ext, found by `method` (any of gf.METHODS) to relative accuracy eps; the
-        forces are read off the witnesses of Z_W(r).
+        forces are read off the witnesses of Z_W(r). For Linf, IE and ZC-IE shoot the ray (0, r)
+        at W_Linf's lift in R^(m + 5) (graspforce.wrench_space), where IE needs half the steps.
         """
         space = self._space(norm, magnitude)
         code = METHODS.get(method)
         if code is None:
             check_choice(method, METHODS, "method")
         eps, max_iter = check_tolerances(eps, max_iter)
-        start = start_table(space.set)
-        packed = np.empty(space.packed_size)
+        target = space.target(method)
+        start = start_table(target.set)
+        packed = np.empty(target.packed_size)
         # the common call, a float64 (6,) array, goes straight to the compiled code, which also
         # checks it; anything else, or a refused wrench, is converted or refused here
         head = None
         if is_vector(w_ext):
-            head = space.shoot(w_ext, code, eps, max_iter, packed, start, *space.compiled_args)
+            head = space.shoot(w_ext, code, eps, max_iter, packed, start, *target.compiled_args)
         if head is None or head[0] == BAD_WRENCH:
             # a new C-contiguous float64 array: the type the compiled code takes
             w_ext = np.array(finite_vector(w_ext, "w_ext", 6)[0])
-            head = space.shoot(w_ext, code, eps, max_iter, packed, start, *space.compiled_args)
+            head = space.shoot(w_ext, code, eps, max_iter, packed, start, *target.compiled_args)
         status = head[0]
         if status == ZERO_WRENCH:
             return self._without_forces(space, "optimal", 0.0, method, None)
         sigma = packed[0]
-        ray = (space.set, w_ext, head, packed, space.extra)
+        ray = (target.set, w_ext, head, packed, target.extra)
         if status == S.MISS or (status == S.HIT and sigma == math.inf):
             # a separating hyperplane, or a ray that leaves W at the origin: no finite forces
             return self._without_forces(space, "infeasible", math.inf, method, ray)
         if sigma == math.inf:
             return self._without_forces(space, "max_iter", math.inf, method, ray)
         return MinForce.from_packed("optimal" if status == S.HIT else "max_iter", float(sigma),
-                                    1.0 / head[2], norm, magnitude, method, ray,
-                                    len(self.contacts))
+                                    1.0 / (target.t_scale * head[2]), norm, magnitude, method,
+                                    ray, len(self.contacts))
 
     def _without_forces(self, space, status, sigma, method, ray):
         """The record of a zero wrench (sigma 0), an infeasible one or an undecided one (inf)."""
@@ -113,7 +115,7 @@ class Grasp:
         lower = sigma
         if ray is not None and status == "max_iter":
             t_up = ray[2][2]
-            lower = 1.0 / t_up if t_up > 0.0 else 0.0
+            lower = 1.0 / (space.target(method).t_scale * t_up) if t_up > 0.0 else 0.0
         return MinForce(
             feasible=sigma == 0.0, status=status, sigma=sigma, sigma_lower=lower,
             forces=np.zeros((m, 4)), world_forces=np.zeros((m, 3)), wrenches=np.zeros((m, 6)),

@@ -122,10 +122,12 @@ class MinForce:
     full magnitudes) of `forces`, which lie in their friction cones and whose resultant is
     -w_ext. The true minimum lies in [sigma_lower, sigma]: with z = t r (r = -w_ext) the point of
     the ray in the wrench set W found by ray shooting and t_upper from its supporting hyperplane,
-    sigma = 1/t and sigma_lower = 1/t_upper (eq. 14 scales W by sigma). Baselines report their
-    solver's dual bound, or NaN when it certifies none (graspforce.baselines).
+    sigma = 1/t and sigma_lower = 1/t_upper (eq. 14 scales W by sigma; for Linf, t = m t' of
+    the shot at W_Linf's lift, `shot`). Baselines report their solver's dual bound, or NaN when
+    it certifies none (graspforce.baselines).
     status: "optimal" (sigma / sigma_lower - 1 <= eps), "infeasible" (no forces in the cones
-    resist w_ext: `shot.normal` n satisfies h_W(n) <= 0 < n^T r, a separating hyperplane),
+    resist w_ext: the wrench part n of `shot.normal` satisfies h_W(n) <= 0 < n^T r, a
+    separating hyperplane),
     "max_iter" (feasible: `forces` resist w_ext, but the bracket did not close to eps).
     forces: (m, 4) local (f_1, f_2, f_3, f_4) = (normal force, two tangential, spin moment),
     read off the witnesses of the final simplex Z_W(r), not re-solved. world_forces: (m, 3) the
@@ -176,13 +178,19 @@ class MinForce:
 
     @cached_property
     def shot(self):
-        """The RayShot on W(norm, magnitude) and R(-w_ext) that certifies this answer (built
-        on first use; None for a zero wrench)."""
+        """The RayShot that certifies this answer (built on first use; None for a zero wrench):
+        on W(norm, magnitude) and R(-w_ext), or for Linf on W_Linf's lift C (R^(m + 5),
+        graspforce.wrench_space) and the ray (0, -w_ext), where sigma = 1 / (m t). The wrench
+        part u of the lift's normal (mu, u) is a normal of W_Linf: h_W(u) = sum_i h_Ai(u) <=
+        m h_C(mu, u) since the lift's rows sum to zero, so u alone certifies sigma_lower (and a
+        miss)."""
         if self.ray is None:
             return None
         from .ray_shoot import make_ray_shot
         W, w_ext, head, packed, extra = self.ray
-        return make_ray_shot(W, -w_ext, self.method, head, packed, extra)
+        r = np.zeros(W.dim)
+        r[W.dim - 6:] = -np.asarray(w_ext, dtype=float)
+        return make_ray_shot(W, r, self.method, head, packed, extra)
 
     def __repr__(self):
         return (f"MinForce(feasible={self.feasible}, status={self.status!r}, "

@@ -18,6 +18,21 @@ Then (eq. 14 and NOTES.md item 2)
 where z = t r is the farthest point of W on the ray R(r), r = -w_ext. The literal W_Linf of
 eq. (14), CH(W_1 + ... + W_m), makes every contact push with the same magnitude and is the minimum
 only for symmetric grasps such as the paper's sphere.
+
+min_force with IE or ZC-IE on up to LIFT_MAX_CONTACTS contacts does not shoot at the sum itself
+but at its lift, one dimension per contact up (the Cayley embedding of the summands
+A_i = CH({0} U W_i)):
+
+    C = CH( {e_1} x A_1  U ... U  {e_m} x A_m ) - (c, 0),   c = (1/m, ..., 1/m),
+
+with the first m - 1 of the coordinates e kept (they sum to 1). A point of C with e-part 0 is
+(1/m) sum_i a_i with a_i in A_i, so the ray (0, r) leaves C at t' with t = m t' on W_Linf. IE's
+facets in C combine the contacts' support points freely, where a facet of the sum is made of n
+sums of m points each: a cutting-plane model of each summand instead of one of their sum. On the
+ingot grasp IE needs 28 steps on C (R^9) against 63 on the sum (R^6) at eps = 1e-9
+(BENCHMARKS.md, "The Linf lift"). A vertex of C is one contact's wrench (or the origin), so the
+forces are read off as for W_L1: f_i = sum_k (lam_k / t') u_ki over the vertices of contact i,
+whose weights sum to 1/m.
 """
 import numpy as np
 
@@ -29,10 +44,13 @@ NORMS = ("L1", "Linf")
 MAGNITUDES = ("normal", "full")
 
 
-def contact_set(contact, magnitude):
+def contact_set(contact, magnitude, lift=()):
     """(W_i, base, local_map): the wrench set of one contact and how its leaf's witness maps to a
-    unit contact force, f = base + local_map @ local."""
-    G = contact.matrix
+    unit contact force, f = base + local_map @ local; with `lift` e (k entries), {e} x W_i in
+    R^(k + 6) instead."""
+    e = np.asarray(lift, dtype=float)
+    pad = np.zeros((e.shape[0], 6))
+    G = np.vstack((pad[:, :4], contact.matrix))
     if magnitude == "normal":
         # the ellipse's axes: only the friction components this contact has
         axes = [(1, contact.mu), (2, contact.mu)] if contact.mu > 0.0 else []
@@ -42,61 +60,120 @@ def contact_set(contact, magnitude):
         for col, (row, coefficient) in enumerate(axes):
             local_map[row, col] = coefficient
         base = np.array([1.0, 0.0, 0.0, 0.0])
-        return Ellipsoid(G[:, 0].copy(), G @ local_map), base, local_map
+        return Ellipsoid(np.concatenate((e, G[e.shape[0]:, 0])), G @ local_map), base, local_map
     # full magnitude: g = D f lives in the cone of the contact's own dimension
     size = 4 if contact.mu_spin > 0.0 else 3
     local_map = np.zeros((4, size))
     local_map[:3, :3] = np.eye(3)
     if size == 4:
         local_map[3, 3] = contact.mu_spin / contact.mu       # D^{-1}
-    return affine(G @ local_map, ConeCap(contact.mu, size)), np.zeros(4), local_map
+    return (affine(G @ local_map, ConeCap(contact.mu, size), np.concatenate((e, np.zeros(6)))),
+            np.zeros(4), local_map)
 
 
-class WrenchSpace:
-    """W (eq. 14) for a list of contacts, compiled once, with the table that reads contact
-    forces off a witness (`graspforce._forces`); contact_matrices: the contacts' G_i, (m, 6, 4)."""
+def lift_rows(m):
+    """The rows e_i - c of the lift (module docstring) without their last entry, (m, m - 1)."""
+    return np.vstack((np.eye(m - 1), np.zeros((1, m - 1)))) - 1.0 / m
 
-    def __init__(self, contacts, norm, magnitude, contact_matrices):
-        self.norm = norm
-        self.magnitude = magnitude
-        maps = {}                                   # id(leaf) -> (contact index, base, map)
-        parts = []
-        for i, contact in enumerate(contacts):
-            W_i, base, local_map = contact_set(contact, magnitude)
-            for leaf in W_i.leaves():
-                maps[id(leaf)] = (i, base, local_map)
-            parts.append(W_i)
-        if norm == "L1":
+
+# the methods that shoot W_Linf's lift: IE's steps halve there. The distance-based ones gain
+# nothing (ZC-based, Bi-GJK) or lose digits in R^(m + 5): GJK-based's final simplex on the
+# paper's sphere at lambda = 1e-6 lies 1e-7 off the ray, read as forces 1e-7 off the minimum;
+# the Newton finish takes more time there, not less (BENCHMARKS.md, "The Linf lift").
+LIFTED_METHODS = ("ie", "zc-ie")
+# ... and only for a few contacts: an IE step's algebra grows as (m + 5)^2 and the lift's steps
+# stop halving (grasps on a sphere, lift over sum per call: m = 2 0.74, 4 0.80, 6 1.03, 8 1.29)
+LIFT_MAX_CONTACTS = 4
+
+
+class Target:
+    """One set that min_force shoots at, compiled, with the table that reads contact forces off
+    its witnesses (`graspforce._forces`): W itself, or W_Linf's lift, whose t is `t_scale`
+    (= m) times W_Linf's.
+
+    parts: the contacts' sets (lifted or not), maps: id(leaf) -> (contact, base, map);
+    `origins`: the rows of the summands' origins (Linf), else None."""
+
+    def __init__(self, parts, maps, origins, t_scale, contact_matrices, linf, full, spin_weight):
+        if origins is None:
             self.set = hull(*parts)
+        elif t_scale == 1:
+            self.set = minkowski_sum(*[hull(Polytope(origins), W_i) for W_i in parts])
         else:
-            origin = np.zeros((1, 6))
-            self.set = minkowski_sum(*[hull(Polytope(origin), W_i) for W_i in parts])
-        self._table(maps)
-        # the weight of f_4^2 in ||f||^2 of eq. (15); point contacts have no f_4
-        self.spin_weight = np.array([(c.mu / c.mu_spin) ** 2 if c.mu_spin > 0.0 else 0.0
-                                     for c in contacts])
+            # the m origins in one polytope, read as no force
+            self.set = hull(Polytope(origins), *parts)
+        self.t_scale = t_scale
+        table, forces_map = self._table(maps)
+        m = contact_matrices.shape[0]
         # entries of the array a min_force call fills: the forces, then the shot's arrays
-        self.extra = extra_size(len(contacts))
-        self.packed_size = self.extra + capacity(6, self.set.witness_size)
-        # what every min_force call on this space passes to the compiled code after its own
-        # arguments (graspforce._forces.SIGNATURE), gathered once: ~1 us a call saved
+        self.extra = extra_size(m)
+        self.packed_size = self.extra + capacity(self.set.dim, self.set.witness_size)
+        # what every min_force call passes to the compiled code after its own arguments
+        # (graspforce._forces.SIGNATURE), gathered once: ~1 us a call saved
         ints, floats = self.set.program
-        self.compiled_args = (ints, floats, self.set.witness_size, contact_matrices, self.table,
-                              self.maps, norm == "Linf", magnitude == "full", self.spin_weight)
+        self.compiled_args = (ints, floats, self.set.witness_size, contact_matrices, table,
+                              forces_map, linf, full, spin_weight)
 
     def _table(self, maps):
-        """table (4, leaves): per leaf its contact (-1 for the origin of CH({0} U W_i)), the
-        start of its witness slot, its local size and the offset of [base, map] in `maps`."""
+        """(table (4, leaves), maps): per leaf its contact (-1 for an origin), the start of its
+        witness slot, its local size and the offset of [base, map] in the returned maps."""
         self.set.program                   # compiles the set, which fills its witness slots
         leaves = self.set.leaves()
         slots = self.set._witness_slots
-        self.table = np.zeros((4, len(leaves)), np.int64)
+        table = np.zeros((4, len(leaves)), np.int64)
         blocks = []
         offset = 0
         for j, (leaf, (start, size)) in enumerate(zip(leaves, slots)):
             origin = (-1, np.zeros(4), np.zeros((4, size - 1)))
             contact, base, local_map = maps.get(id(leaf), origin)
-            self.table[:, j] = (contact, start, size - 1, offset)
+            table[:, j] = (contact, start, size - 1, offset)
             blocks.append(np.concatenate((base, local_map.ravel())))
             offset += len(blocks[-1])
-        self.maps = np.concatenate(blocks)
+        return table, np.concatenate(blocks)
+
+
+class WrenchSpace:
+    """W (eq. 14) for a list of contacts; contact_matrices: the contacts' G_i, (m, 6, 4).
+    `set` is W in R^6; `target(method)` the compiled set min_force shoots at with that method
+    (W, or W_Linf's lift for LIFTED_METHODS), built on first use."""
+
+    def __init__(self, contacts, norm, magnitude, contact_matrices):
+        self.norm = norm
+        self.magnitude = magnitude
+        self._contacts = contacts
+        self._matrices = contact_matrices
+        # the weight of f_4^2 in ||f||^2 of eq. (15); point contacts have no f_4
+        self.spin_weight = np.array([(c.mu / c.mu_spin) ** 2 if c.mu_spin > 0.0 else 0.0
+                                     for c in contacts])
+        self._targets = {}
+        self._by_method = {}
+        self.set = self._target(False).set
+
+    def target(self, method):
+        """The Target that min_force shoots at with `method` (a name of gf.METHODS)."""
+        target = self._by_method.get(method)
+        if target is None:
+            target = self._by_method[method] = self._target(
+                self.norm == "Linf" and 1 < len(self._contacts) <= LIFT_MAX_CONTACTS
+                and method in LIFTED_METHODS)
+        return target
+
+    def _target(self, lifted):
+        target = self._targets.get(lifted)
+        if target is None:
+            m = len(self._contacts)
+            lift = lift_rows(m) if lifted else np.zeros((m, 0))
+            maps = {}
+            parts = []
+            for i, contact in enumerate(self._contacts):
+                W_i, base, local_map = contact_set(contact, self.magnitude, lift[i])
+                for leaf in W_i.leaves():
+                    maps[id(leaf)] = (i, base, local_map)
+                parts.append(W_i)
+            linf = self.norm == "Linf"
+            origins = np.hstack((lift, np.zeros((m, 6)))) if lifted else (
+                np.zeros((1, 6)) if linf else None)
+            target = self._targets[lifted] = Target(
+                parts, maps, origins, m if lifted else 1, self._matrices, linf,
+                self.magnitude == "full", self.spin_weight)
+        return target

@@ -66,8 +66,10 @@ def check_forces(grasp, w, res, residual_vs_w=True):
 
 def certified_gap(grasp, w, res):
     """(sigma - n.r / h_W(n)) / sigma with the library's normal n and truth's support: an upper
-    bound of sigma's relative error that does not trust graspforce's support functions."""
-    n = res.shot.normal
+    bound of sigma's relative error that does not trust graspforce's support functions. For Linf
+    the shot is on W_Linf's lift; its normal's wrench part is a normal of W_Linf
+    (MinForce.shot)."""
+    n = res.shot.normal[-6:]
     r = -np.asarray(w, dtype=float)
     assert n @ r > 0
     lower = (n @ r) / T.grasp_support(plain(grasp), n, res.norm, res.magnitude)
@@ -177,7 +179,7 @@ def check_infeasible(grasp, w, res):
     assert not res.forces.any() and not res.resultant.any()
     # the certificate: a direction n with n.r > 0 in which W does not extend (to rounding of
     # W's size: 1e-11 is ~100 ulps of sums of up to 8 support values)
-    n = res.shot.normal
+    n = res.shot.normal[-6:]
     P = plain(grasp)
     size = max(T.grasp_support(P, e, res.norm, res.magnitude)
                for e in np.vstack((np.eye(6), -np.eye(6))))

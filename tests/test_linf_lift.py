@@ -1,0 +1,66 @@
+"""W_Linf's lift (graspforce.wrench_space): the set that min_force's IE and ZC-IE shoot at for
+norm "Linf", C = CH(U_i {e_i - c} x CH({0} U W_i)) in R^(m + 5), against W_Linf itself and the
+closed-form supports of truth.py."""
+import numpy as np
+import pytest
+import truth as T
+from grasp_cases import plain, random_grasp, random_wrench
+from grasps import box_grasp
+
+import graspforce as gf
+from graspforce.wrench_space import LIFT_MAX_CONTACTS, LIFTED_METHODS
+
+
+@pytest.mark.parametrize("magnitude", ["normal", "full"])
+def test_lift_meets_the_ray_where_the_sum_does(magnitude):
+    # m t' on the lift along (0, r) is t on W_Linf along r: both shot to 1e-12, and the lift's
+    # support in (mu, u) is max_i (mu . e_i + h_Ai(u)), which truth's closed forms bound
+    rng = np.random.default_rng(3)
+    hits = 0
+    for m in range(2, LIFT_MAX_CONTACTS + 1):
+        grasp = random_grasp(rng, m)
+        space = grasp._space("Linf", magnitude)
+        C, W = space.target("zc-ie").set, grasp.wrench_set("Linf", magnitude)
+        assert (C.dim, W.dim) == (m + 5, 6)
+        for _ in range(5):
+            r = -random_wrench(rng)
+            on_W = gf.ray_shoot(W, r, method="ie", eps=1e-12)
+            on_C = gf.ray_shoot(C, np.concatenate((np.zeros(m - 1), r)), eps=1e-12)
+            assert on_W.hit == on_C.hit
+            if on_W.hit:
+                hits += 1
+                assert m * on_C.t == pytest.approx(on_W.t, rel=3e-12)
+                # the wrench part u of the lift's normal bounds W_Linf from outside: t <= h_W(u)
+                # / u.r <= m t'_upper (MinForce.shot)
+                u = on_C.normal[-6:]
+                bound = T.grasp_support(plain(grasp), u, "Linf", magnitude) / (u @ r)
+                assert on_W.t <= bound * (1 + 1e-12)
+                assert bound <= m * on_C.t_upper * (1 + 1e-12)
+    assert hits >= 5
+
+
+def test_which_methods_and_grasps_shoot_the_lift():
+    four = box_grasp()
+    five = gf.Grasp(list(four.contacts) + [four.contacts[0]])
+    for method in gf.METHODS:
+        lifted = method in LIFTED_METHODS
+        assert four._space("Linf", "normal").target(method).set.dim == (9 if lifted else 6)
+        assert four._space("L1", "normal").target(method).set.dim == 6
+        assert five._space("Linf", "normal").target(method).set.dim == 6
+
+
+def test_lift_halves_ie_steps_on_the_ingot():
+    # the reason for the lift (BENCHMARKS.md, "The Linf lift"): IE's cutting planes model each
+    # contact's set, not their sum. Same wrenches, same answers, steps counted by the shooters.
+    from benchmarks.grasp_sets import ingot_grasp, random_wrenches
+    grasp = ingot_grasp()
+    W = grasp.wrench_set("Linf")
+    C = grasp._space("Linf", "normal").target("zc-ie").set
+    steps_W, steps_C = [], []
+    for w in random_wrenches(40, 2):
+        res = grasp.min_force(w, norm="Linf")
+        on_W = gf.ray_shoot(W, -w)
+        assert res.sigma == pytest.approx(1.0 / on_W.t, rel=2e-9)
+        steps_W.append(on_W.iterations)
+        steps_C.append(gf.ray_shoot(C, np.concatenate((np.zeros(3), -w))).iterations)
+    assert np.median(steps_C) <= 0.6 * np.median(steps_W)
