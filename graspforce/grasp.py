@@ -84,7 +84,7 @@ class Grasp:
             check_choice(method, METHODS, "method")
         eps, max_iter = check_tolerances(eps, max_iter)
         target = space.target(method)
-        start = start_table(target.set)
+        start = start_table(target.set, 6)
         packed = np.empty(target.packed_size)
         # the common call, a float64 (6,) array, goes straight to the compiled code, which also
         # checks it; anything else, or a refused wrench, is converted or refused here

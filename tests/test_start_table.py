@@ -3,6 +3,7 @@ from the inner polytope CH(P_0) (LP truth), shots started from it keep the contr
 ignored wherever it would not be sound (changed parameters, origin outside, flat sets)."""
 import numpy as np
 import pytest
+from scipy.spatial import ConvexHull
 
 import graspforce as gf
 import graspforce._start_table as ST
@@ -54,6 +55,33 @@ def test_start_is_the_exit_of_the_inner_polytope(n):
             assert np.allclose(A.witness_point(A.decode_witness(w)), p, atol=1e-12)
 
 
+@pytest.mark.parametrize("n", [7, 9])
+def test_table_for_rays_in_a_subspace(n):
+    # rays with zeros but in their last k = 6 entries (W_Linf's lift): the table keeps only the
+    # facets such rays leave through, and its start is still the exit from CH(P_0) (LP truth) or
+    # a cold start; P_0 spans R^n, and a set in R^9 gets a table only for such rays
+    k = 6
+    rng = np.random.default_rng(90 + n)
+    A = gf.Polytope(random_polytope(rng, n))
+    assert (ST.build_start_table(A).size > 0) == (n <= ST.MAX_DIM)
+    A._start_table = ST.build_start_table(A, k)
+    assert A._start_table.size > 0
+    points, _ = _table_parts(A._start_table)
+    assert int(A._start_table[0]) < len(ConvexHull(points, qhull_options="QJ").simplices)
+    warm = 0
+    for _ in range(50):
+        r = np.concatenate((np.zeros(n - k), rng.standard_normal(k)))
+        t, P, lam, _ = _start(A, r)
+        hit, t_lp, _ = T.ray_shoot_lp(points, r)
+        assert hit
+        if t == 0.0:
+            continue
+        warm += 1
+        assert abs(t - t_lp) <= 1e-9 * t_lp
+        assert lam.min() >= 0.0 and np.allclose(lam @ P, t * r, atol=1e-12 * (1 + t * np.linalg.norm(r)))
+    assert warm >= 45
+
+
 @pytest.mark.parametrize("method", ZC_IE_METHODS)
 @pytest.mark.parametrize("n", range(2, 9))
 def test_repeated_shots_use_the_table_and_keep_the_contract(method, n, check_shot):
@@ -91,9 +119,8 @@ def test_ingot_table_saves_the_search():
 @pytest.mark.parametrize("norm", ["L1", "Linf"])
 def test_min_force_with_table_agrees_with_clarabel(norm):
     from graspforce.baselines import clarabel_socp
-    # Linf's ZC-IE shoots at the lift in R^(m + 5): three contacts keep it in R^8, where tables
-    # are built
-    grasp = box_grasp() if norm == "L1" else gf.Grasp(box_grasp().contacts[:3])
+    # Linf's ZC-IE shoots at the lift in R^9, whose table serves rays in its last 6 coordinates
+    grasp = box_grasp()
     for w in random_wrenches(15, 11):
         res = grasp.min_force(w, norm=norm)
         ref = clarabel_socp.min_force(grasp, w, norm=norm)
