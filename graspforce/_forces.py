@@ -119,7 +119,7 @@ def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, start, ints, flo
     if ww == 0.0:
         return ZERO_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0
     # r = -w_ext, after the lift's m - 1 zeros for Linf (graspforce.wrench_space)
-    n = ints[blocks(ints[0])[1]]
+    n = ints[blocks(ints[0])[1]]          # the set's dimension: its root node's
     r = np.zeros(n)
     for a in range(6):
         r[n - 6 + a] = -w_ext[a]

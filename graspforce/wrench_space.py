@@ -89,19 +89,11 @@ LIFT_MAX_CONTACTS = 4
 class Target:
     """One set that min_force shoots at, compiled, with the table that reads contact forces off
     its witnesses (`graspforce._forces`): W itself, or W_Linf's lift, whose t is `t_scale`
-    (= m) times W_Linf's.
+    (= m) times W_Linf's. maps: id(leaf) -> (contact, base, map) for the leaves of the
+    contacts' sets (the others are origins: no force)."""
 
-    parts: the contacts' sets (lifted or not), maps: id(leaf) -> (contact, base, map);
-    `origins`: the rows of the summands' origins (Linf), else None."""
-
-    def __init__(self, parts, maps, origins, t_scale, contact_matrices, linf, full, spin_weight):
-        if origins is None:
-            self.set = hull(*parts)
-        elif t_scale == 1:
-            self.set = minkowski_sum(*[hull(Polytope(origins), W_i) for W_i in parts])
-        else:
-            # the m origins in one polytope, read as no force
-            self.set = hull(Polytope(origins), *parts)
+    def __init__(self, shot_set, maps, t_scale, contact_matrices, linf, full, spin_weight):
+        self.set = shot_set
         self.t_scale = t_scale
         table, forces_map = self._table(maps)
         m = contact_matrices.shape[0]
@@ -159,6 +151,7 @@ class WrenchSpace:
         return target
 
     def _target(self, lifted):
+        """The Target on W, or on W_Linf's lift; built once."""
         target = self._targets.get(lifted)
         if target is None:
             m = len(self._contacts)
@@ -171,9 +164,15 @@ class WrenchSpace:
                     maps[id(leaf)] = (i, base, local_map)
                 parts.append(W_i)
             linf = self.norm == "Linf"
-            origins = np.hstack((lift, np.zeros((m, 6)))) if lifted else (
-                np.zeros((1, 6)) if linf else None)
+            if lifted:
+                # the m origins in one polytope
+                shot_set = hull(Polytope(np.hstack((lift, np.zeros((m, 6))))), *parts)
+            elif linf:
+                shot_set = minkowski_sum(*[hull(Polytope(np.zeros((1, 6))), W_i)
+                                           for W_i in parts])
+            else:
+                shot_set = hull(*parts)
             target = self._targets[lifted] = Target(
-                parts, maps, origins, m if lifted else 1, self._matrices, linf,
+                shot_set, maps, m if lifted else 1, self._matrices, linf,
                 self.magnitude == "full", self.spin_weight)
         return target
