@@ -595,10 +595,34 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
     that simplex, not just to the midpoint (`_simplex_exit`): ingot W_L1, median iterations
     32 -> 6, support calls 74 -> 72."""
     n = r.shape[0]
-    rr = dot(r, r)
     P = np.empty((n + 2, n))
     Wt = np.empty((n + 2, ws))
     lam = np.empty(n + 2)
+    nvec = np.empty(n)
+    v = np.empty(n)
+    point = np.empty(n)
+    wit = np.empty(ws)
+    sc = scratch(n)
+    st, k, d, h, zi, calls = zc(ints, floats, np.zeros(n), r, P, Wt, lam, 0, 0.0, 0.0,
+                                max_iter, nvec, v, point, wit, sc)
+    if st != INSIDE:
+        # as in zc_from at t = 0: a certified miss, or r on the boundary of CO(A) to rounding
+        return _result(MISS if st != MAX_ITER else LIMIT, 0.0, 0.0, h, 1, calls, nvec, P,
+                       lam, Wt, 0, 0)
+    sigma = lam[:k].sum()
+    for j in range(k):
+        lam[j] /= sigma
+    return bi_gjk_from(ints, floats, r, ws, eps, max_iter, 1.0 / sigma, P, Wt, lam, k, r,
+                       calls)
+
+
+@njit(cache=True)
+def bi_gjk_from(ints, floats, r, ws, eps, max_iter, t_lo, P, Wt, lam, k, u, calls):
+    """Bi-GJK's bisection from t_lo r = sum lam_l P_l (l < k), a point of A, and the upper
+    bound of the supporting hyperplane H(u, s_A(u)) (u = r from ZC's start; a start table's
+    facet normal, much nearer the answer's, from `graspforce._start_table`)."""
+    n = r.shape[0]
+    rr = dot(r, r)
     Pz = np.empty((n + 2, n))
     Wz = np.empty((n + 2, ws))
     lz = np.empty(n + 2)
@@ -612,25 +636,25 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
     M, lu = exit_work[0], exit_work[1]
     piv = np.empty(n + 1, np.int64)
     rhs = np.empty(n + 1)
-    st, k, d, h, zi, calls = zc(ints, floats, np.zeros(n), r, P, Wt, lam, 0, 0.0, 0.0,
-                                max_iter, nvec, v, point, wit, sc)
-    if st != INSIDE:
-        # as in zc_from at t = 0: a certified miss, or r on the boundary of CO(A) to rounding
-        return _result(MISS if st != MAX_ITER else LIMIT, 0.0, 0.0, h, 1, calls, nvec, P,
-                       lam, Wt, 0, 0)
-    sigma = lam[:k].sum()
-    t_lo = 1.0 / sigma
-    for j in range(k):
-        lam[j] /= sigma
     kz = _keep(P, Wt, lam, k, Pz, Wz, lz)
-    best_h = support(ints, floats, r, point, wit) / np.sqrt(rr)
+    best_n = u / np.sqrt(dot(u, u))
+    best_h = support(ints, floats, best_n, point, wit)
     calls += 1
-    best_n = r / np.sqrt(rr)
-    t_hi = best_h / np.sqrt(rr)
+    un = dot(best_n, r)
+    if not (un > 0.0 and best_h >= t_lo * un):
+        # a table's facet normal that rounding left behind t_lo: r's own bound instead
+        best_n = r / np.sqrt(rr)
+        best_h = support(ints, floats, best_n, point, wit)
+        calls += 1
+        un = np.sqrt(rr)
+    t_hi = best_h / un
     t_up = t_hi
     for it in range(max_iter):
         if t_up - t_lo <= eps * t_lo:
-            return _result(HIT, t_lo, t_up, best_h, it + 1, calls, best_n, Pz, lz, Wz, kz, 0)
+            # a table's t_lo = 1 / sum(gam) can exceed t_up by an ulp or two where the ray
+            # leaves A exactly at a vertex of the table's facet
+            return _result(HIT, min(t_lo, t_up), t_up, best_h, it + 1, calls, best_n, Pz, lz,
+                           Wz, kz, 0)
         if t_hi - t_lo <= 1e-3 * eps * t_lo:
             # the bracket closed on points GJK could not certify: its numerical floor
             return _finish_inside(ints, floats, r, ws, eps, max_iter, t_lo, Pz, Wz, lz, kz,

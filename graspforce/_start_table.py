@@ -32,7 +32,8 @@ from scipy.spatial import ConvexHull, QhullError
 from ._dispatch import shoot
 from ._jit import borrowing
 from ._kernel import params_size
-from ._shooters import WITH_IE, WITH_NEWTON, ZC_IE, ZC_IE_NEWTON, zc_from
+from ._shooters import (BI_GJK, WITH_IE, WITH_NEWTON, ZC_IE, ZC_IE_NEWTON, bi_gjk_from,
+                        zc_from)
 
 MAX_DIM = 8
 MAX_HULL_DIM = 9      # rays in a subspace of dimension <= MAX_DIM: Qhull in up to R^9 (W_Linf's
@@ -141,9 +142,10 @@ def _table(A, directions, k):
 
 
 @borrowing
-def table_start(table, floats, r, P, Wt, lam):
-    """t_0 > 0 with the facet of the table's CH(P_0) that R(r) leaves through in P[:n], Wt[:n]
-    and its weights lam[:n] (t_0 r = sum lam_j P_j); 0.0 when the table does not apply.
+def table_start(table, floats, r, P, Wt, lam, y):
+    """t_0 > 0 with the facet of the table's CH(P_0) that R(r) leaves through in P[:n], Wt[:n],
+    its weights lam[:n] (t_0 r = sum lam_j P_j) and its hyperplane y^T x = 1 in y; 0.0 when the
+    table does not apply.
 
     table = [F, n, ws, npar, npts, the set's parameters (npar), y_f (F, n), B_f (F, n, n),
     vertex indices (F, n), points (npts, n), witnesses (npts, ws)]."""
@@ -182,6 +184,8 @@ def table_start(table, floats, r, P, Wt, lam):
         lam[j] = s
         total += s
     t = 1.0 / total
+    for a in range(n):
+        y[a] = table[y0 + f * n + a]
     for j in range(n):
         lam[j] *= t
         v = int(table[i0 + f * n + j])
@@ -195,14 +199,18 @@ def table_start(table, floats, r, P, Wt, lam):
 @njit(cache=True)
 def shoot_with_table(ints, floats, r, ws, method, eps, max_iter, table):
     """`shoot` (graspforce._dispatch), with ZC-IE's steps started on the table's facet when the
-    table applies (module docstring); the table's own support calls are not counted."""
-    if (method == ZC_IE or method == ZC_IE_NEWTON) and table.shape[0] > 0:
+    table applies (module docstring), and Bi-GJK's bisection between that facet's point and the
+    bound of its normal; the table's own support calls are not counted."""
+    if (method == ZC_IE or method == ZC_IE_NEWTON or method == BI_GJK) and table.shape[0] > 0:
         n = r.shape[0]
         P = np.empty((n + 2, n))
         Wt = np.empty((n + 2, ws))
         lam = np.empty(n + 2)
-        t = table_start(table, floats, r, P, Wt, lam)
+        y = np.empty(n)
+        t = table_start(table, floats, r, P, Wt, lam, y)
         if t > 0.0:
+            if method == BI_GJK:
+                return bi_gjk_from(ints, floats, r, ws, eps, max_iter, t, P, Wt, lam, n, y, 0)
             mode = WITH_IE if method == ZC_IE else WITH_NEWTON
             return zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, n, 0, 0)
     return shoot(ints, floats, r, ws, method, eps, max_iter)

@@ -12,7 +12,8 @@ from conftest import build, random_polytope
 from benchmarks.grasp_sets import ingot_grasp_sets
 from grasps import box_grasp, random_wrenches
 
-ZC_IE_METHODS = ("zc-ie", "zc-ie-newton")
+# the methods that start from a table's facet
+TABLE_METHODS = ("zc-ie", "zc-ie-newton", "bi-gjk")
 
 
 def _table_parts(table):
@@ -27,7 +28,8 @@ def _start(A, r):
     """table_start run from Python: (t_0, facet points, weights, witness rows)."""
     n = A.dim
     P, Wt, lam = np.empty((n + 2, n)), np.empty((n + 2, A.witness_size)), np.empty(n + 2)
-    t = ST.table_start(A._start_table, A.program[1], np.asarray(r, float), P, Wt, lam)
+    t = ST.table_start(A._start_table, A.program[1], np.asarray(r, float), P, Wt, lam,
+                       np.empty(n))
     return t, P[:n], lam[:n], Wt[:n]
 
 
@@ -82,7 +84,7 @@ def test_table_for_rays_in_a_subspace(n):
     assert warm >= 45
 
 
-@pytest.mark.parametrize("method", ZC_IE_METHODS)
+@pytest.mark.parametrize("method", TABLE_METHODS)
 @pytest.mark.parametrize("n", range(2, 9))
 def test_repeated_shots_use_the_table_and_keep_the_contract(method, n, check_shot):
     rng = np.random.default_rng(70 + n)
