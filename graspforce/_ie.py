@@ -110,13 +110,19 @@ def ie(ints, floats, r, ws, eps, max_iter):
                   np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0)
     if out[0] != FACET:
         return out
-    it = out[4]
-    calls = out[5]
+    return ie_from(ints, floats, r, ws, eps, max_iter, out[7], out[9], out[4], out[5])
+
+
+@njit(cache=True)
+def ie_from(ints, floats, r, ws, eps, max_iter, V, Wv, it, calls):
+    """IE's steps from the facet V[:n] (support points of A, witnesses Wv) that the ray crosses:
+    ZC's first facet (`ie`) or a start table's (graspforce._start_table)."""
+    n = r.shape[0]
     cap_pts = n + 1 + max_iter
     pool = np.empty((cap_pts, n))
     pwit = np.empty((cap_pts, ws))
-    pool[:n] = out[7]
-    pwit[:n] = out[9]
+    pool[:n] = V[:n]
+    pwit[:n] = Wv[:n]
     npts = n
     cap_f = 64 * n
     F = np.empty((cap_f, n), np.int64)

@@ -30,9 +30,10 @@ from numba import njit
 from scipy.spatial import ConvexHull, QhullError
 
 from ._dispatch import shoot
+from ._ie import ie_from
 from ._jit import borrowing
 from ._kernel import params_size
-from ._shooters import (BI_GJK, WITH_IE, WITH_NEWTON, ZC_IE, ZC_IE_NEWTON, bi_gjk_from,
+from ._shooters import (BI_GJK, IE, WITH_IE, WITH_NEWTON, ZC_IE, ZC_IE_NEWTON, bi_gjk_from,
                         zc_from)
 
 MAX_DIM = 8
@@ -198,10 +199,11 @@ def table_start(table, floats, r, P, Wt, lam, y):
 
 @njit(cache=True)
 def shoot_with_table(ints, floats, r, ws, method, eps, max_iter, table):
-    """`shoot` (graspforce._dispatch), with ZC-IE's steps started on the table's facet when the
-    table applies (module docstring), and Bi-GJK's bisection between that facet's point and the
-    bound of its normal; the table's own support calls are not counted."""
-    if (method == ZC_IE or method == ZC_IE_NEWTON or method == BI_GJK) and table.shape[0] > 0:
+    """`shoot` (graspforce._dispatch), with IE's and ZC-IE's steps started on the table's facet
+    when the table applies (module docstring), and Bi-GJK's bisection between that facet's point
+    and the bound of its normal; the table's own support calls are not counted."""
+    if (method == ZC_IE or method == ZC_IE_NEWTON or method == BI_GJK or method == IE) and \
+            table.shape[0] > 0:
         n = r.shape[0]
         P = np.empty((n + 2, n))
         Wt = np.empty((n + 2, ws))
@@ -211,6 +213,8 @@ def shoot_with_table(ints, floats, r, ws, method, eps, max_iter, table):
         if t > 0.0:
             if method == BI_GJK:
                 return bi_gjk_from(ints, floats, r, ws, eps, max_iter, t, P, Wt, lam, n, y, 0)
+            if method == IE:
+                return ie_from(ints, floats, r, ws, eps, max_iter, P, Wt, 0, 0)
             mode = WITH_IE if method == ZC_IE else WITH_NEWTON
             return zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, n, 0, 0)
     return shoot(ints, floats, r, ws, method, eps, max_iter)

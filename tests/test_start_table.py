@@ -13,7 +13,7 @@ from benchmarks.grasp_sets import ingot_grasp_sets
 from grasps import box_grasp, random_wrenches
 
 # the methods that start from a table's facet
-TABLE_METHODS = ("zc-ie", "zc-ie-newton", "bi-gjk")
+TABLE_METHODS = ("ie", "zc-ie", "zc-ie-newton", "bi-gjk")
 
 
 def _table_parts(table):
