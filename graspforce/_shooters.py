@@ -109,6 +109,13 @@ def _on_ray(P, k, b, x, tol, sc):
     return reproduce(P, x, k, b)
 
 
+@njit(cache=True)
+def _work(n, ws):
+    """Work arrays of a shooter's GJK and ZC calls: (normal, v, point, witness, weights x,
+    the subproblem's scratch)."""
+    return np.empty(n), np.empty(n), np.empty(n), np.empty(ws), np.empty(n + 2), scratch(n)
+
+
 INEXACT_GJK = 1.0   # gjk_based: GJK's tolerance, relative to the last step squared, until eps
 TIGHTEN = 1e-2      # gjk_based: GJK's tolerance after an inexact direction that did not cut the ray
 
@@ -133,12 +140,7 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
     P = np.empty((n + 2, n))
     Wt = np.empty((n + 2, ws))
     lam = np.empty(n + 2)
-    nvec = np.empty(n)
-    v = np.empty(n)
-    point = np.empty(n)
-    wit = np.empty(ws)
-    x = np.empty(n + 2)
-    sc = scratch(n)
+    nvec, v, point, wit, x, sc = _work(n, ws)
     h0 = support(ints, floats, r, point, wit)
     calls = 1
     if h0 <= 0.0:
@@ -598,11 +600,7 @@ def bi_gjk(ints, floats, r, ws, eps, max_iter):
     P = np.empty((n + 2, n))
     Wt = np.empty((n + 2, ws))
     lam = np.empty(n + 2)
-    nvec = np.empty(n)
-    v = np.empty(n)
-    point = np.empty(n)
-    wit = np.empty(ws)
-    sc = scratch(n)
+    nvec, v, point, wit, _, sc = _work(n, ws)
     st, k, d, h, zi, calls = zc(ints, floats, np.zeros(n), r, P, Wt, lam, 0, 0.0, 0.0,
                                 max_iter, nvec, v, point, wit, sc)
     if st != INSIDE:
@@ -626,12 +624,7 @@ def bi_gjk_from(ints, floats, r, ws, eps, max_iter, t_lo, P, Wt, lam, k, u, call
     Pz = np.empty((n + 2, n))
     Wz = np.empty((n + 2, ws))
     lz = np.empty(n + 2)
-    nvec = np.empty(n)
-    v = np.empty(n)
-    point = np.empty(n)
-    wit = np.empty(ws)
-    x = np.empty(n + 2)
-    sc = scratch(n)
+    nvec, v, point, wit, x, sc = _work(n, ws)
     exit_work = np.empty((2, n + 1, n + 1))
     M, lu = exit_work[0], exit_work[1]
     piv = np.empty(n + 1, np.int64)
