@@ -102,20 +102,23 @@ class Grasp:
         ray = (target.set, w_ext, head, packed, target.extra)
         if status == S.MISS or (status == S.HIT and sigma == math.inf):
             # a separating hyperplane, or a ray that leaves W at the origin: no finite forces
-            return self._without_forces(space, "infeasible", math.inf, method, ray)
+            return self._without_forces(space, "infeasible", math.inf, method, ray,
+                                        target.t_scale)
         if sigma == math.inf:
-            return self._without_forces(space, "max_iter", math.inf, method, ray)
+            return self._without_forces(space, "max_iter", math.inf, method, ray,
+                                        target.t_scale)
         return MinForce.from_packed("optimal" if status == S.HIT else "max_iter", float(sigma),
                                     1.0 / (target.t_scale * head[2]), norm, magnitude, method,
                                     ray, len(self.contacts))
 
-    def _without_forces(self, space, status, sigma, method, ray):
-        """The record of a zero wrench (sigma 0), an infeasible one or an undecided one (inf)."""
+    def _without_forces(self, space, status, sigma, method, ray, t_scale=1):
+        """The record of a zero wrench (sigma 0), an infeasible one or an undecided one (inf);
+        t_scale: the shot set's (graspforce.wrench_space.Target)."""
         m = len(self.contacts)
         lower = sigma
         if ray is not None and status == "max_iter":
             t_up = ray[2][2]
-            lower = 1.0 / (space.target(method).t_scale * t_up) if t_up > 0.0 else 0.0
+            lower = 1.0 / (t_scale * t_up) if t_up > 0.0 else 0.0
         return MinForce(
             feasible=sigma == 0.0, status=status, sigma=sigma, sigma_lower=lower,
             forces=np.zeros((m, 4)), world_forces=np.zeros((m, 3)), wrenches=np.zeros((m, 6)),

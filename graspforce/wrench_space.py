@@ -49,8 +49,7 @@ def contact_set(contact, magnitude, lift=()):
     unit contact force, f = base + local_map @ local; with `lift` e (k entries), {e} x W_i in
     R^(k + 6) instead."""
     e = np.asarray(lift, dtype=float)
-    pad = np.zeros((e.shape[0], 6))
-    G = np.vstack((pad[:, :4], contact.matrix))
+    G = np.vstack((np.zeros((e.shape[0], 4)), contact.matrix))
     if magnitude == "normal":
         # the ellipse's axes: only the friction components this contact has
         axes = [(1, contact.mu), (2, contact.mu)] if contact.mu > 0.0 else []
@@ -60,7 +59,7 @@ def contact_set(contact, magnitude, lift=()):
         for col, (row, coefficient) in enumerate(axes):
             local_map[row, col] = coefficient
         base = np.array([1.0, 0.0, 0.0, 0.0])
-        return Ellipsoid(np.concatenate((e, G[e.shape[0]:, 0])), G @ local_map), base, local_map
+        return Ellipsoid(np.concatenate((e, contact.matrix[:, 0])), G @ local_map), base, local_map
     # full magnitude: g = D f lives in the cone of the contact's own dimension
     size = 4 if contact.mu_spin > 0.0 else 3
     local_map = np.zeros((4, size))
