@@ -205,6 +205,54 @@ def lu_factor(M, n, lu, piv):
     return True
 
 
+@borrowing
+def invert(M, n, B, piv):
+    """B[:n, :n] = M[:n, :n]^{-1} by Gauss-Jordan elimination with partial pivoting; False when
+    singular to working precision (lu_factor's test: the pivots are the same). One reciprocal a
+    column: LU and n solves divide n^2 / 2 times, in a dependent chain (R^6: 550 -> 160 ns)."""
+    scale = 0.0
+    for i in range(n):
+        for j in range(n):
+            B[i, j] = M[i, j]
+            scale = max(scale, abs(M[i, j]))
+    if scale == 0.0:
+        return False
+    for k in range(n):
+        p = k
+        best = abs(B[k, k])
+        for i in range(k + 1, n):
+            if abs(B[i, k]) > best:
+                best = abs(B[i, k])
+                p = i
+        piv[k] = p
+        if best <= 1e-14 * scale:
+            return False
+        if p != k:
+            for j in range(n):
+                tmp = B[k, j]
+                B[k, j] = B[p, j]
+                B[p, j] = tmp
+        inv = 1.0 / B[k, k]
+        B[k, k] = 1.0
+        for j in range(n):
+            B[k, j] *= inv
+        for i in range(n):
+            f = B[i, k]
+            if i != k and f != 0.0:
+                B[i, k] = 0.0
+                for j in range(n):
+                    B[i, j] -= f * B[k, j]
+    # the row interchanges of M are column interchanges of its inverse, undone in reverse
+    for k in range(n - 1, -1, -1):
+        p = piv[k]
+        if p != k:
+            for i in range(n):
+                tmp = B[i, k]
+                B[i, k] = B[i, p]
+                B[i, p] = tmp
+    return True
+
+
 @borrowing(forceinline=True)
 def lu_solve(lu, piv, n, b, x):
     """Solve M x = b from lu_factor(M); x may be b itself."""

@@ -19,7 +19,7 @@ from ._corral import drop_point, reproduce, set_row
 from ._distance import CONVERGED, INSIDE, MAX_ITER, STALLED, gjk, scratch, zc
 from ._jit import borrowing
 from ._kernel import support
-from ._linalg import dot, lstsq, lu_factor, lu_solve, lu_solve_t, smallest
+from ._linalg import dot, invert, lstsq, lu_factor, lu_solve, lu_solve_t, smallest
 from ._newton import newton_finish
 
 HIT = 0
@@ -208,7 +208,7 @@ def _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter, nvec, v, point, w
     return zc(ints, floats, b, r, P, Wt, lam, k, eps, 0.0, max_iter, nvec, v, point, wit, sc)
 
 
-REFACTOR = 16   # IE steps between fresh factorizations of the facet matrix
+REFACTOR = 64   # IE steps between fresh factorizations of the facet matrix
 # "zc-ie-newton" tries the Newton finish (graspforce._newton, docs/core-api.md) once an IE step's
 # relative gap is at most NEWTON_GAP; after a failed try, the next waits for the gap to shrink by
 # NEWTON_RETRY
@@ -216,12 +216,18 @@ NEWTON_GAP = 0.1
 NEWTON_RETRY = 1e-2
 
 
-@borrowing
-def _factor_facet(P, n, M, lu, piv):
-    """LU of [P_0 .. P_{n-1}] (facet points as columns) into lu, piv; False when singular."""
+@borrowing(forceinline=True)
+def _facet_matrix(P, n, M):
+    """M = [P_0 .. P_{n-1}]: the facet's points as columns."""
     for j in range(n):
         for i in range(n):
             M[i, j] = P[j, i]
+
+
+@borrowing
+def _factor_facet(P, n, M, lu, piv):
+    """LU of [P_0 .. P_{n-1}] (facet points as columns) into lu, piv; False when singular."""
+    _facet_matrix(P, n, M)
     return lu_factor(M, n, lu, piv)
 
 
@@ -237,20 +243,10 @@ def _solve_facet(P, n, r, M, lu, piv, ones, y, gam):
 
 
 @borrowing
-def _invert(P, n, M, lu, piv, B, col):
-    """B = [P_0 .. P_{n-1}]^{-1} (facet points as columns), keeping its LU in lu, piv; False
-    when singular."""
-    if not _factor_facet(P, n, M, lu, piv):
-        return False
-    for j in range(n):
-        for i in range(n):
-            col[i] = 0.0
-        col[j] = 1.0
-        # solved in place and copied: a column view B[:, j] costs more than the copy
-        lu_solve(lu, piv, n, col, col)
-        for i in range(n):
-            B[i, j] = col[i]
-    return True
+def _invert(P, n, M, piv, B):
+    """B = [P_0 .. P_{n-1}]^{-1} (facet points as columns); False when singular."""
+    _facet_matrix(P, n, M)
+    return invert(M, n, B, piv)
 
 
 @borrowing(forceinline=True)
@@ -385,10 +381,9 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
         k = _restart(P, Wt, lam, kz, r, sc) if kz > 0 else 0
     # the n-vectors and n x n matrices as rows of two allocations: a shot of a few
     # microseconds felt each of its ~40 allocations (~25 ns each)
-    vectors = np.empty((9, n))
-    nvec, v, point, ones, y, gam, alpha, col, b = (vectors[0], vectors[1], vectors[2],
-                                                   vectors[3], vectors[4], vectors[5],
-                                                   vectors[6], vectors[7], vectors[8])
+    vectors = np.empty((8, n))
+    nvec, v, point, ones, y, gam, alpha, b = (vectors[0], vectors[1], vectors[2], vectors[3],
+                                              vectors[4], vectors[5], vectors[6], vectors[7])
     ones[:] = 1.0
     matrices = np.empty((3, n, n))
     M, lu, B = matrices[0], matrices[1], matrices[2]
@@ -408,7 +403,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                 # LU solves only, no inverse: y, gam here, alpha below
                 ok = _solve_facet(P, n, r, M, lu, piv, ones, y, gam)
             elif age < 0 or age >= REFACTOR:
-                ok = _invert(P, n, M, lu, piv, B, col)
+                ok = _invert(P, n, M, piv, B)
                 age = 0
                 if ok:
                     _matvec_t_ones(B, n, y)
