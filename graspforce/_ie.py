@@ -107,7 +107,7 @@ def ie(ints, floats, r, ws, eps, max_iter):
     # initialization shared with ZC-IE: ZC-based iterations until V_k is a facet crossed by the
     # ray in its interior (a flat set never has one: ZC-based then finishes the job)
     out = zc_from(ints, floats, r, ws, eps, max_iter, UNTIL_FACET, 0.0, np.empty((n + 2, n)),
-                  np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0)
+                  np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0, np.empty((0, 0)))
     if out[0] != FACET:
         return out
     return ie_from(ints, floats, r, ws, eps, max_iter, out[7], out[9], out[4], out[5])
@@ -315,4 +315,5 @@ def _from_facet(ints, floats, r, ws, eps, max_iter, t, pool, pwit, facet, gam, i
     Pz[:k] = V
     Wz[:k] = W
     lz[:k] = lam
-    return zc_from(ints, floats, r, ws, eps, max_iter, 0, t, Pz, Wz, lz, k, it, calls)
+    return zc_from(ints, floats, r, ws, eps, max_iter, 0, t, Pz, Wz, lz, k, it, calls,
+                   np.empty((0, 0)))

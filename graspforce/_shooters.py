@@ -354,17 +354,18 @@ def zc_family(ints, floats, r, ws, eps, max_iter, mode):
     with mode WITH_NEWTON, ZC-IE with the Newton finish (graspforce._newton)."""
     n = r.shape[0]
     return zc_from(ints, floats, r, ws, eps, max_iter, mode, 0.0, np.empty((n + 2, n)),
-                   np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0)
+                   np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0, np.empty((0, 0)))
 
 
 @njit(cache=True)
-def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls):
+def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls, inverse):
     """ZC-based iterations from b = t r in A, the convex combination lz of Pz[:kz] (t = 0,
     kz = 0: from the origin, which first decides whether the ray meets A; kz = n with WITH_IE: a
     facet the ray crosses, where IE steps start). mode: ZC_ONLY
     (section 3.3), WITH_IE (ZC-IE, section 3.4.2: plain IE steps while V_k is a facet),
     WITH_NEWTON (ZC-IE with the Newton finish) or UNTIL_FACET (return FACET with V_k as soon as
-    it is a facet: IE's initialization)."""
+    it is a facet: IE's initialization). inverse: [Pz_0 .. Pz_{n-1}]^{-1} when it is known (a
+    start table's facet, graspforce._start_table), else a 0 x 0 array."""
     use_ie = mode == WITH_IE or mode == WITH_NEWTON
     singular = 0
     n = r.shape[0]
@@ -390,6 +391,14 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
     wit = np.empty(ws)
     piv = np.empty(n, np.int64)
     age = -1
+    if use_ie and kz == n and inverse.shape[0] == n:
+        # the table's inverse of its facet: IE's first step factors nothing
+        for i in range(n):
+            for j in range(n):
+                B[i, j] = inverse[i, j]
+        _matvec_t_ones(B, n, y)
+        _matvec(B, n, r, gam)
+        age = 0
     # the row of P that the last IE step replaced since Pz last held the facet (-1: unknown)
     changed = -1
     fresh_only = False
@@ -581,7 +590,8 @@ def _finish_inside(ints, floats, r, ws, eps, max_iter, t, P, Wt, lam, k, it, cal
     rays, which the dispatcher's IE then redid from scratch; Bi-GJK's mean support calls
     181 -> 131.)"""
     mode = WITH_IE if k == r.shape[0] else ZC_ONLY
-    return zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, k, it, calls)
+    return zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, k, it, calls,
+                   np.empty((0, 0)))
 
 
 @njit(cache=True)

@@ -143,10 +143,10 @@ def _table(A, directions, k):
 
 
 @borrowing
-def table_start(table, floats, r, P, Wt, lam, y):
+def table_start(table, floats, r, P, Wt, lam, y, B):
     """t_0 > 0 with the facet of the table's CH(P_0) that R(r) leaves through in P[:n], Wt[:n],
-    its weights lam[:n] (t_0 r = sum lam_j P_j) and its hyperplane y^T x = 1 in y; 0.0 when the
-    table does not apply.
+    its weights lam[:n] (t_0 r = sum lam_j P_j), its hyperplane y^T x = 1 in y and the inverse of
+    [P_0 .. P_{n-1}] in B; 0.0 when the table does not apply.
 
     table = [F, n, ws, npar, npts, the set's parameters (npar), y_f (F, n), B_f (F, n, n),
     vertex indices (F, n), points (npts, n), witnesses (npts, ws)]."""
@@ -187,6 +187,8 @@ def table_start(table, floats, r, P, Wt, lam, y):
     t = 1.0 / total
     for a in range(n):
         y[a] = table[y0 + f * n + a]
+        for j in range(n):
+            B[a, j] = table[b0 + (f * n + a) * n + j]
     for j in range(n):
         lam[j] *= t
         v = int(table[i0 + f * n + j])
@@ -209,12 +211,13 @@ def shoot_with_table(ints, floats, r, ws, method, eps, max_iter, table):
         Wt = np.empty((n + 2, ws))
         lam = np.empty(n + 2)
         y = np.empty(n)
-        t = table_start(table, floats, r, P, Wt, lam, y)
+        B = np.empty((n, n))
+        t = table_start(table, floats, r, P, Wt, lam, y, B)
         if t > 0.0:
             if method == BI_GJK:
                 return bi_gjk_from(ints, floats, r, ws, eps, max_iter, t, P, Wt, lam, n, y, 0)
             if method == IE:
                 return ie_from(ints, floats, r, ws, eps, max_iter, P, Wt, 0, 0)
             mode = WITH_IE if method == ZC_IE else WITH_NEWTON
-            return zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, n, 0, 0)
+            return zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, n, 0, 0, B)
     return shoot(ints, floats, r, ws, method, eps, max_iter)

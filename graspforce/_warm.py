@@ -71,7 +71,7 @@ def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
                 for j in range(n):
                     lam[j] = gam[j] * t
                 return zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, t, P, Wt, lam, n,
-                               0, calls)
+                               0, calls, np.empty((0, 0)))
         spread *= 4.0
     out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE)
     return (out[0], out[1], out[2], out[3], out[4], out[5] + calls, out[6], out[7], out[8],

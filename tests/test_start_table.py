@@ -25,11 +25,16 @@ def _table_parts(table):
 
 
 def _start(A, r):
-    """table_start run from Python: (t_0, facet points, weights, witness rows)."""
+    """table_start run from Python: (t_0, facet points, weights, witness rows), after checking
+    the facet's hyperplane and inverse against the points."""
     n = A.dim
     P, Wt, lam = np.empty((n + 2, n)), np.empty((n + 2, A.witness_size)), np.empty(n + 2)
-    t = ST.table_start(A._start_table, A.program[1], np.asarray(r, float), P, Wt, lam,
-                       np.empty(n))
+    y, B = np.empty(n), np.empty((n, n))
+    t = ST.table_start(A._start_table, A.program[1], np.asarray(r, float), P, Wt, lam, y, B)
+    if t > 0.0:
+        # B inverts the matrix whose columns are the facet's points; they lie on y^T x = 1
+        assert np.allclose(B @ P[:n].T, np.eye(n), atol=1e-9)
+        assert np.allclose(P[:n] @ y, 1.0, atol=1e-9)
     return t, P[:n], lam[:n], Wt[:n]
 
 
