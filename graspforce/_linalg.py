@@ -1,7 +1,8 @@
 """Small dense solvers for the jitted algorithms (n <= ~16, no allocation in the hot loop).
 
 Householder QR least squares (conditioning of the data, not of its square, which the 1e-9
-accuracy goal needs) and LU with partial pivoting for the square facet systems of IE.
+accuracy goal needs), LU with partial pivoting for the square facet systems of IE, and the
+Gauss-Jordan inverse that ZC-IE's steps update by pivots.
 
 The small helpers called in the algorithms' inner loops here and in _corral and _shooters are
 compiled with forceinline=True (LLVM's alwaysinline): a call passes every array as its seven
