@@ -291,6 +291,20 @@ def _pivot(B, n, alpha, js, y, gam):
                 B[i, j] -= f * B[js, j]
 
 
+@borrowing(forceinline=True)
+def _reproduces(P, lam, n, t, r):
+    """Whether sum_j lam_j P_j = t r to 1e-12 ||t r|| (relative: A's units do not matter)."""
+    res = 0.0
+    rr = 0.0
+    for i in range(n):
+        e = -t * r[i]
+        for j in range(n):
+            e += lam[j] * P[j, i]
+        res += e * e
+        rr += r[i] * r[i]
+    return res <= (1e-12 * t) ** 2 * rr
+
+
 NEGLIGIBLE = 1e-6   # _restart: a relative weight this small leaves b on the face of the others
 
 
@@ -460,12 +474,24 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     return _result(HIT, t, h * ny / yr, h, it, calls, nvec, Pz, lz, Wz, kz,
                                    singular)
                 if h - 1.0 / ny <= eps * (1.0 / ny):
-                    # certify with LU solves on a fresh factorization: t and the weights must
-                    # not carry the drift of the updated inverse. The normal and h_A(n) already
-                    # evaluated give a valid bracket whatever n is.
+                    # certify: the normal and h_A(n) already evaluated bound t from above
+                    # whatever n is; from below, t r must be the convex combination gam / sum(gam)
+                    # of the facet's points, checked by its residual (the updated inverse's
+                    # drift shows there). Failing that, LU solves on a fresh factorization.
+                    nr = dot(nvec, r)
+                    gsum = 0.0
+                    for j in range(n):
+                        gsum += gam[j]
+                    if gsum > 0.0 and smallest(gam, n) >= 0.0:
+                        tz = 1.0 / gsum
+                        for j in range(n):
+                            lam[j] = gam[j] * tz
+                        if h / nr - tz <= eps * tz and _reproduces(P, lam, n, tz, r):
+                            kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
+                            return _result(HIT, tz, h / nr, h, it, calls, nvec, Pz, lz, Wz, kz,
+                                           singular)
                     ok = _solve_facet(P, n, r, M, lu, piv, ones, y, gam)
                     yr = dot(y, r)
-                    nr = dot(nvec, r)
                     if (ok and yr > 0.0 and smallest(gam, n) >= 0.0
                             and h / nr - 1.0 / yr <= eps / yr):
                         t = 1.0 / yr
