@@ -34,10 +34,9 @@ def drop_point(P, Wt, lam, k, j):
     return k - 1
 
 
-@borrowing
-def reproduce(P, x, k, b):
-    """Whether the weights x[:k] of the rows P[:k] reproduce b to 1e-12 (1 + ||b||), the rounding
-    floor of Fig. 3b's rule; if so they are clipped at zero and normalized to sum to 1."""
+@borrowing(forceinline=True)
+def residual2(P, x, k, b):
+    """(||sum_j x_j P_j - b||^2, ||b||^2) over the rows P[:k]."""
     res = 0.0
     bn = 0.0
     for i in range(P.shape[1]):
@@ -46,6 +45,14 @@ def reproduce(P, x, k, b):
             e += x[j] * P[j, i]
         res += e * e
         bn += b[i] * b[i]
+    return res, bn
+
+
+@borrowing
+def reproduce(P, x, k, b):
+    """Whether the weights x[:k] of the rows P[:k] reproduce b to 1e-12 (1 + ||b||), the rounding
+    floor of Fig. 3b's rule; if so they are clipped at zero and normalized to sum to 1."""
+    res, bn = residual2(P, x, k, b)
     if res > (1e-12 * (1.0 + np.sqrt(bn))) ** 2:
         return False
     s = 0.0

@@ -15,7 +15,7 @@ Tolerance: every stopping rule is relative, (h_A(n) - n^T z) <= eps * n^T z, i.e
 import numpy as np
 from numba import njit
 
-from ._corral import drop_point, reproduce, set_row
+from ._corral import drop_point, reproduce, residual2, set_row
 from ._distance import CONVERGED, INSIDE, MAX_ITER, STALLED, gjk, scratch, zc
 from ._jit import borrowing
 from ._kernel import support
@@ -291,20 +291,6 @@ def _pivot(B, n, alpha, js, y, gam):
                 B[i, j] -= f * B[js, j]
 
 
-@borrowing(forceinline=True)
-def _reproduces(P, lam, n, t, r):
-    """Whether sum_j lam_j P_j = t r to 1e-12 ||t r|| (relative: A's units do not matter)."""
-    res = 0.0
-    rr = 0.0
-    for i in range(n):
-        e = -t * r[i]
-        for j in range(n):
-            e += lam[j] * P[j, i]
-        res += e * e
-        rr += r[i] * r[i]
-    return res <= (1e-12 * t) ** 2 * rr
-
-
 NEGLIGIBLE = 1e-6   # _restart: a relative weight this small leaves b on the face of the others
 
 
@@ -486,7 +472,10 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                         tz = 1.0 / gsum
                         for j in range(n):
                             lam[j] = gam[j] * tz
-                        if h / nr - tz <= eps * tz and _reproduces(P, lam, n, tz, r):
+                            b[j] = tz * r[j]
+                        # relative, unlike `reproduce`'s floor: A's units do not matter
+                        res, bb = residual2(P, lam, n, b)
+                        if h / nr - tz <= eps * tz and res <= 1e-24 * bb:
                             kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
                             return _result(HIT, tz, h / nr, h, it, calls, nvec, Pz, lz, Wz, kz,
                                            singular)
