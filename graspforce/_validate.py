@@ -40,7 +40,11 @@ def positive_int(value, name):
 
 def check_choice(value, allowed, name):
     """value, if it is one of `allowed` (a dict's keys or a sequence)."""
-    if value not in allowed:
+    try:
+        known = value in allowed
+    except TypeError:         # unhashable, so not one of a dict's keys
+        known = False
+    if not known:
         raise ValueError(f"{name}: must be one of {sorted(allowed)}, got {value!r}")
     return value
 

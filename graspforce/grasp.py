@@ -33,6 +33,7 @@ class Grasp:
         self.contacts = contacts
         self.contact_matrices = np.array([c.matrix for c in contacts])   # (m, 6, 4): G_i
         self._spaces = {}
+        self._calls = {}
 
     def __len__(self):
         return len(self.contacts)
@@ -40,7 +41,7 @@ class Grasp:
     def __getstate__(self):
         # the wrench spaces are caches built on first use, and hold compiled entry points that do
         # not pickle
-        return {**self.__dict__, "_spaces": {}}
+        return {**self.__dict__, "_spaces": {}, "_calls": {}}
 
     @property
     def matrix(self):
@@ -57,11 +58,10 @@ class Grasp:
         return self._space(norm, magnitude).set
 
     def _space(self, norm, magnitude):
-        space = self._spaces.get((norm, magnitude))
+        key = (check_choice(norm, NORMS, "norm"), check_choice(magnitude, MAGNITUDES, "magnitude"))
+        space = self._spaces.get(key)
         if space is None:
-            check_choice(norm, NORMS, "norm")
-            check_choice(magnitude, MAGNITUDES, "magnitude")
-            space = self._spaces[(norm, magnitude)] = WrenchSpace(self.contacts, norm, magnitude,
+            space = self._spaces[key] = WrenchSpace(self.contacts, norm, magnitude,
                                                                      self.contact_matrices)
             space.shoot = entry_point(shoot_and_read_forces, SIGNATURE)
         return space
@@ -78,28 +78,31 @@ class Grasp:
         forces are read off the witnesses of Z_W(r). For Linf, IE and ZC-IE shoot the ray (0, r)
         at W_Linf's lift in R^(m + 5) (graspforce.wrench_space), where IE needs half the steps.
         """
-        space = self._space(norm, magnitude)
-        code = METHODS.get(method)
-        if code is None:
-            check_choice(method, METHODS, "method")
+        try:
+            call = self._calls.get((norm, magnitude, method))
+        except TypeError:          # an unhashable argument: _call names it
+            call = None
+        if call is None:
+            call = self._call(norm, magnitude, method)
+        space, code, target, shoot, args = call
         eps, max_iter = check_tolerances(eps, max_iter)
-        target = space.target(method)
-        start = start_table(target.set, 6)
+        A = target.set
+        start = start_table(A, 6)
         packed = np.empty(target.packed_size)
         # the common call, a float64 (6,) array, goes straight to the compiled code, which also
         # checks it; anything else, or a refused wrench, is converted or refused here
         head = None
         if is_vector(w_ext):
-            head = space.shoot(w_ext, code, eps, max_iter, packed, start, *target.compiled_args)
+            head = shoot(w_ext, code, eps, max_iter, packed, start, *args)
         if head is None or head[0] == BAD_WRENCH:
             # a new C-contiguous float64 array: the type the compiled code takes
             w_ext = np.array(finite_vector(w_ext, "w_ext", 6)[0])
-            head = space.shoot(w_ext, code, eps, max_iter, packed, start, *target.compiled_args)
+            head = shoot(w_ext, code, eps, max_iter, packed, start, *args)
         status = head[0]
         if status == ZERO_WRENCH:
             return self._without_forces(space, "optimal", 0.0, method, None)
-        sigma = packed[0]
-        ray = (target.set, w_ext, head, packed, target.extra)
+        sigma = packed.item(0)
+        ray = (A, w_ext, head, packed, target.extra)
         if status == S.MISS or (status == S.HIT and sigma == math.inf):
             # a separating hyperplane, or a ray that leaves W at the origin: no finite forces
             return self._without_forces(space, "infeasible", math.inf, method, ray,
@@ -107,9 +110,20 @@ class Grasp:
         if sigma == math.inf:
             return self._without_forces(space, "max_iter", math.inf, method, ray,
                                         target.t_scale)
-        return MinForce.from_packed("optimal" if status == S.HIT else "max_iter", float(sigma),
+        return MinForce.from_packed("optimal" if status == S.HIT else "max_iter", sigma,
                                     1.0 / (target.t_scale * head[2]), norm, magnitude, method,
                                     ray, len(self.contacts))
+
+    def _call(self, norm, magnitude, method):
+        """(space, method code, target, compiled entry point, its constant arguments) of one
+        (norm, magnitude, method), checked and cached: one lookup per min_force call instead of
+        four (~0.4 us of ~9, benchmarks/min_force.py)."""
+        code = METHODS[check_choice(method, METHODS, "method")]
+        space = self._space(norm, magnitude)
+        target = space.target(method)
+        call = self._calls[(norm, magnitude, method)] = (space, code, target, space.shoot,
+                                                          target.compiled_args)
+        return call
 
     def _without_forces(self, space, status, sigma, method, ray, t_scale=1):
         """The record of a zero wrench (sigma 0), an infeasible one or an undecided one (inf);
