@@ -23,6 +23,34 @@ def extra_size(m):
     return 7 + 10 * m
 
 
+# A Target's force reader (graspforce.wrench_space): how forces are read off witnesses, as one
+# float array, since each array a min_force call hands to the compiled code costs ~50 ns to cross
+# from Python (the six this gathers cost ~0.2 us more). Layout: [witness size, linf, full, m,
+# leaves L, table (4, L), G (m, 6, 4), spin_weight (m,), maps].
+READER_HEAD = 5
+
+
+def force_reader(witness_size, linf, full, G, table, maps, spin_weight):
+    """The reader array of a shot set (layout above): its witness size, the objective (linf,
+    full), the contacts' G_i (m, 6, 4), the leaf table and maps of `contact_forces` and the
+    weights of f_4^2 (full magnitude)."""
+    return np.concatenate(([witness_size, linf, full, G.shape[0], table.shape[1]],
+                           table.ravel(), G.ravel(), spin_weight, maps)).astype(float)
+
+
+@register_jitable
+def reader_parts(reader):
+    """(witness size, linf, full, table (4, L), G (m, 6, 4), spin_weight (m,), maps): views of a
+    force reader."""
+    m = int(reader[3])
+    leaves = int(reader[4])
+    g0 = READER_HEAD + 4 * leaves
+    s0 = g0 + 24 * m
+    return (int(reader[0]), reader[1] != 0.0, reader[2] != 0.0,
+            reader[READER_HEAD:g0].reshape(4, leaves), reader[g0:s0].reshape(m, 6, 4),
+            reader[s0:s0 + m], reader[s0 + m:])
+
+
 @register_jitable
 def force_views(packed, m):
     """(forces (m, 4), wrenches (m, 6), resultant (6,)): views of those entries, for the compiled
@@ -41,7 +69,8 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, f
     Every vertex v_k of Z_W(r) holds one wrench G_i u_ki (W_L1, or the lift of W_Linf, whose
     vertices' weights sum to 1/m per contact) or a sum of them (W_Linf itself), u_ki a unit
     contact force recovered from the vertex's witness row as base + map @ local (table: per
-    leaf its contact, witness slot, local size and offset in maps). Then
+    leaf its contact, witness slot, local size and offset in maps, as floats: the force reader).
+    Then
     r = sum_i G_i f_i with f_i = sum_k (weights_k / t) u_ki: the forces resist w_ext = -r exactly,
     up to the rounding of the simplex. sigma is their objective (eq. 13 or 15), <= 1/t (1/(m t)
     on the lift) by the triangle inequality (equal when each contact appears in one vertex). For
@@ -53,12 +82,12 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, f
     for k in range(W.shape[0]):
         c = weights[k] * scale
         for j in range(table.shape[1]):
-            i = table[CONTACT, j]
-            s = table[SLOT, j]
+            i = int(table[CONTACT, j])
+            s = int(table[SLOT, j])
             if i < 0 or W[k, s] < 0.5:
                 continue
-            p = table[MAP, j]
-            L = table[SIZE, j]
+            p = int(table[MAP, j])
+            L = int(table[SIZE, j])
             for a in range(4):
                 f = maps[p + a]
                 for b in range(L):
@@ -86,10 +115,9 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, f
 
 
 # the one signature of `shoot_and_read_forces` (graspforce._signature): the per-call arguments,
-# then a wrench space Target's `compiled_args`
-SIGNATURE = (VECTOR, types.int64, types.float64, types.int64, VECTOR, VECTOR,
-             INTS, VECTOR, types.int64, types.float64[:, :, ::1], types.int64[:, ::1], VECTOR,
-             types.boolean, types.boolean, VECTOR)
+# then a wrench space Target's `compiled_args` (the set's program and the force reader)
+SIGNATURE = (VECTOR, types.int64, types.float64, types.int64, VECTOR, VECTOR, INTS, VECTOR,
+             VECTOR)
 
 # statuses of shoot_and_read_forces that say no shot was made (the shooters' are >= 0)
 BAD_WRENCH = -1       # not 6 entries, or not finite
@@ -97,14 +125,13 @@ ZERO_WRENCH = -2      # w_ext = 0: no force needed, sigma = 0
 
 
 @njit(cache=True)
-def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, start, ints, floats, ws, G,
-                          table, maps, linf, full, spin_weight):
+def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, start, ints, floats, reader):
     """One compiled call per min_force: z = t r on W by `method` (r = -w_ext), then the forces
     read off Z_W(r). Compiled for one signature and called through its entry point
     (graspforce._signature.entry_point): the caller passes only a C-contiguous float64 wrench and
     converts any other first. The per-call arguments come first (start: the wrench set's start
     table, graspforce._start_table, or an empty array), so that the caller appends a wrench
-    space's constant ones as they are.
+    space's constant ones as they are: the shot set's program and its force reader.
 
     Returns the head of the shot (graspforce._packed), whose arrays go to `packed`
     (extra_size(m) + capacity(6, ws) entries) after the extra entries [sigma, forces (m, 4),
@@ -119,6 +146,7 @@ def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, start, ints, flo
     if ww == 0.0:
         return ZERO_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0
     # r = -w_ext, after the lift's m - 1 zeros for Linf (graspforce.wrench_space)
+    ws, linf, full, table, G, spin_weight, maps = reader_parts(reader)
     n = ints[blocks(ints[0])[1]]          # the set's dimension: its root node's
     r = np.zeros(n)
     for a in range(6):

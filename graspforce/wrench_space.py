@@ -36,7 +36,7 @@ whose weights sum to 1/m.
 """
 import numpy as np
 
-from ._forces import extra_size
+from ._forces import extra_size, force_reader
 from ._packed import capacity
 from .sets import ConeCap, Ellipsoid, Polytope, affine, hull, minkowski_sum
 
@@ -102,8 +102,9 @@ class Target:
         # what every min_force call passes to the compiled code after its own arguments
         # (graspforce._forces.SIGNATURE), gathered once: ~1 us a call saved
         ints, floats = self.set.program
-        self.compiled_args = (ints, floats, self.set.witness_size, contact_matrices, table,
-                              forces_map, linf, full, spin_weight)
+        self.compiled_args = (ints, floats, force_reader(self.set.witness_size, linf, full,
+                                                         contact_matrices, table, forces_map,
+                                                         spin_weight))
 
     def _table(self, maps):
         """(table (4, leaves), maps): per leaf its contact (-1 for an origin), the start of its
