@@ -11,7 +11,7 @@ from ._shooters import MISS
 from ._signature import INTS, VECTOR
 from ._start_table import shoot_with_table
 
-# rows of a wrench space's leaf table (graspforce.wrench_space.WrenchSpace.table)
+# rows of a wrench space's leaf table (graspforce.wrench_space.Target._table)
 CONTACT, SLOT, SIZE, MAP = 0, 1, 2, 3
 ORIGIN_FLOOR = 1e-12   # |z| <= this times W's size: z is the origin to rounding
 
@@ -24,9 +24,10 @@ def extra_size(m):
 
 
 # A Target's force reader (graspforce.wrench_space): how forces are read off witnesses, as one
-# float array, since each array a min_force call hands to the compiled code costs ~50 ns to cross
-# from Python (the six this gathers cost ~0.2 us more). Layout: [witness size, linf, full, m,
-# leaves L, table (4, L), G (m, 6, 4), spin_weight (m,), maps].
+# float array read by offsets, since each array a min_force call hands to the compiled code costs
+# ~50 ns to cross from Python (the six this gathers cost ~0.2 us more) and each view made of one
+# costs reference counting. Layout: [witness size, linf, full, m, leaves L, table (4, L) by rows
+# CONTACT, SLOT, SIZE, MAP, G (m, 6, 4), spin_weight (m,), maps].
 READER_HEAD = 5
 
 
@@ -38,68 +39,61 @@ def force_reader(witness_size, linf, full, G, table, maps, spin_weight):
                            table.ravel(), G.ravel(), spin_weight, maps)).astype(float)
 
 
-@register_jitable
-def reader_parts(reader):
-    """(witness size, linf, full, table (4, L), G (m, 6, 4), spin_weight (m,), maps): views of a
-    force reader."""
-    m = int(reader[3])
-    leaves = int(reader[4])
-    g0 = READER_HEAD + 4 * leaves
-    s0 = g0 + 24 * m
-    return (int(reader[0]), reader[1] != 0.0, reader[2] != 0.0,
-            reader[READER_HEAD:g0].reshape(4, leaves), reader[g0:s0].reshape(m, 6, 4),
-            reader[s0:s0 + m], reader[s0 + m:])
-
-
-@register_jitable
 def force_views(packed, m):
-    """(forces (m, 4), wrenches (m, 6), resultant (6,)): views of those entries, for the compiled
-    writer and the Python reader alike."""
+    """(forces (m, 4), wrenches (m, 6), resultant (6,)): views of those entries of a packed
+    answer, for the Python reader."""
     return (packed[1:1 + 4 * m].reshape(m, 4), packed[1 + 4 * m:1 + 10 * m].reshape(m, 6),
             packed[1 + 10 * m:7 + 10 * m])
 
 
 @borrowing
-def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, forces, wrenches,
-                   resultant):
-    """sigma, with forces (m, 4), wrenches (m, 6) and resultant (6,) (zeroed by the caller)
-    filled in, for z = sum_k weights_k v_k = t r, scale = 1/t, G (m, 6, 4) the contacts' G_i of
-    eq. (11).
+def contact_forces(W, weights, scale, reader, packed):
+    """sigma, with forces (m, 4), wrenches (m, 6) and resultant (6,) written to their entries of
+    `packed` (`force_views`, zeroed by the caller), for z = sum_k weights_k v_k = t r,
+    scale = 1/t, and the force reader of the shot set (G_i of eq. (11) among its parts).
 
     Every vertex v_k of Z_W(r) holds one wrench G_i u_ki (W_L1, or the lift of W_Linf, whose
     vertices' weights sum to 1/m per contact) or a sum of them (W_Linf itself), u_ki a unit
-    contact force recovered from the vertex's witness row as base + map @ local (table: per
-    leaf its contact, witness slot, local size and offset in maps, as floats: the force reader).
-    Then
+    contact force recovered from the vertex's witness row as base + map @ local (the reader's
+    table: per leaf its contact, witness slot, local size and offset in maps). Then
     r = sum_i G_i f_i with f_i = sum_k (weights_k / t) u_ki: the forces resist w_ext = -r exactly,
     up to the rounding of the simplex. sigma is their objective (eq. 13 or 15), <= 1/t (1/(m t)
     on the lift) by the triangle inequality (equal when each contact appears in one vertex). For
-    the full magnitude
-    spin_weight holds (mu_i / mu_si)^2 per contact (0 for point contacts), the weight of f_4^2 in
-    ||f_i||.
+    the full magnitude the reader's spin weights hold (mu_i / mu_si)^2 per contact (0 for point
+    contacts), the weight of f_4^2 in ||f_i||.
     """
-    m = G.shape[0]
+    linf = reader[1] != 0.0
+    full = reader[2] != 0.0
+    m = int(reader[3])
+    leaves = int(reader[4])
+    g0 = READER_HEAD + 4 * leaves        # G_i
+    s0 = g0 + 24 * m                     # spin weights
+    m0 = s0 + m                          # maps
+    f0 = 1                               # forces, wrenches, resultant in packed
+    w0 = f0 + 4 * m
+    r0 = w0 + 6 * m
     for k in range(W.shape[0]):
         c = weights[k] * scale
-        for j in range(table.shape[1]):
-            i = int(table[CONTACT, j])
-            s = int(table[SLOT, j])
+        for j in range(leaves):
+            i = int(reader[READER_HEAD + CONTACT * leaves + j])
+            s = int(reader[READER_HEAD + SLOT * leaves + j])
             if i < 0 or W[k, s] < 0.5:
                 continue
-            p = int(table[MAP, j])
-            L = int(table[SIZE, j])
+            p = m0 + int(reader[READER_HEAD + MAP * leaves + j])
+            L = int(reader[READER_HEAD + SIZE * leaves + j])
             for a in range(4):
-                f = maps[p + a]
+                f = reader[p + a]
                 for b in range(L):
-                    f += maps[p + 4 + a * L + b] * W[k, s + 1 + b]
-                forces[i, a] += c * f
+                    f += reader[p + 4 + a * L + b] * W[k, s + 1 + b]
+                packed[f0 + 4 * i + a] += c * f
     sigma = 0.0
     for i in range(m):
+        f = f0 + 4 * i
         if full:
-            value = np.sqrt(forces[i, 0] ** 2 + forces[i, 1] ** 2 + forces[i, 2] ** 2
-                            + spin_weight[i] * forces[i, 3] ** 2)
+            value = np.sqrt(packed[f] ** 2 + packed[f + 1] ** 2 + packed[f + 2] ** 2
+                            + reader[s0 + i] * packed[f + 3] ** 2)
         else:
-            value = forces[i, 0]
+            value = packed[f]
         if linf:
             sigma = max(sigma, value)
         else:
@@ -108,9 +102,9 @@ def contact_forces(W, weights, scale, G, table, maps, linf, full, spin_weight, f
         for a in range(6):
             s = 0.0
             for b in range(4):
-                s += G[i, a, b] * forces[i, b]
-            wrenches[i, a] = s
-            resultant[a] += s
+                s += reader[g0 + 24 * i + 4 * a + b] * packed[f0 + 4 * i + b]
+            packed[w0 + 6 * i + a] = s
+            packed[r0 + a] += s
     return sigma
 
 
@@ -146,14 +140,13 @@ def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, start, ints, flo
     if ww == 0.0:
         return ZERO_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0
     # r = -w_ext, after the lift's m - 1 zeros for Linf (graspforce.wrench_space)
-    ws, linf, full, table, G, spin_weight, maps = reader_parts(reader)
     n = ints[blocks(ints[0])[1]]          # the set's dimension: its root node's
     r = np.zeros(n)
     for a in range(6):
         r[n - 6 + a] = -w_ext[a]
-    out = shoot_with_table(ints, floats, r, ws, method, eps, max_iter, start)
+    out = shoot_with_table(ints, floats, r, int(reader[0]), method, eps, max_iter, start)
     t = out[1]
-    m = G.shape[0]
+    m = int(reader[3])
     V = out[7]
     size = 0.0
     for k in range(V.shape[0]):
@@ -168,7 +161,5 @@ def shoot_and_read_forces(w_ext, method, eps, max_iter, packed, start, ints, flo
     if out[0] == MISS or not t * np.sqrt(ww) > ORIGIN_FLOOR * size:
         packed[0] = np.inf
     else:
-        forces, wrenches, resultant = force_views(packed, m)
-        packed[0] = contact_forces(out[9], out[8], 1.0 / t, G, table, maps, linf, full,
-                                   spin_weight, forces, wrenches, resultant)
+        packed[0] = contact_forces(out[9], out[8], 1.0 / t, reader, packed)
     return pack(out, packed, e)

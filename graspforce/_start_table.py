@@ -138,18 +138,19 @@ def _table(A, directions, k):
     ints, floats = A.program
     npar = params_size(ints)
     header = [len(faces), A.dim, A.witness_size, npar, len(points)]
-    return np.concatenate((header, floats[:npar], normals.ravel(), inverse.ravel(),
+    # normals by coordinate, (n, F): see table_start
+    return np.concatenate((header, floats[:npar], normals.T.ravel(), inverse.ravel(),
                            faces.ravel(), points.ravel(), witnesses.ravel())).astype(float)
 
 
 @borrowing
-def table_start(table, floats, r, P, Wt, lam, y, B):
+def table_start(table, floats, r, P, Wt, lam, y, B, scores):
     """t_0 > 0 with the facet of the table's CH(P_0) that R(r) leaves through in P[:n], Wt[:n],
     its weights lam[:n] (t_0 r = sum lam_j P_j), its hyperplane y^T x = 1 in y and the inverse of
-    [P_0 .. P_{n-1}] in B; 0.0 when the table does not apply.
+    [P_0 .. P_{n-1}] in B; 0.0 when the table does not apply. scores: work of F entries.
 
-    table = [F, n, ws, npar, npts, the set's parameters (npar), y_f (F, n), B_f (F, n, n),
-    vertex indices (F, n), points (npts, n), witnesses (npts, ws)]."""
+    table = [F, n, ws, npar, npts, the set's parameters (npar), y_f by coordinate (n, F), B_f
+    (F, n, n), vertex indices (F, n), points (npts, n), witnesses (npts, ws)]."""
     n = r.shape[0]
     if table.shape[0] == 0 or int(table[1]) != n:
         return 0.0
@@ -164,14 +165,21 @@ def table_start(table, floats, r, P, Wt, lam, y, B):
     i0 = b0 + F * n * n
     p0 = i0 + F * n
     w0 = p0 + int(table[4]) * n
+    # y_f^T r of all facets a coordinate at a time, on a 2-D view: the inner loop runs along F
+    # and vectorizes (its indices provably >= 0), where one facet's product waits on each of
+    # its n additions (ingot, F = 87: 0.29 -> 0.12 us a lookup, jitted loop over 1000 rays)
+    Yt = table[y0:y0 + n * F].reshape(n, F)
+    for g in range(F):
+        scores[g] = Yt[0, g] * r[0]
+    for a in range(1, n):
+        ra = r[a]
+        for g in range(F):
+            scores[g] += Yt[a, g] * ra
     best = 0.0
     f = -1
     for g in range(F):
-        s = 0.0
-        for a in range(n):
-            s += table[y0 + g * n + a] * r[a]
-        if s > best:
-            best = s
+        if scores[g] > best:
+            best = scores[g]
             f = g
     if f < 0:
         return 0.0
@@ -186,7 +194,7 @@ def table_start(table, floats, r, P, Wt, lam, y, B):
         total += s
     t = 1.0 / total
     for a in range(n):
-        y[a] = table[y0 + f * n + a]
+        y[a] = table[y0 + a * F + f]
         for j in range(n):
             B[a, j] = table[b0 + (f * n + a) * n + j]
     for j in range(n):
@@ -212,7 +220,7 @@ def shoot_with_table(ints, floats, r, ws, method, eps, max_iter, table):
         lam = np.empty(n + 2)
         y = np.empty(n)
         B = np.empty((n, n))
-        t = table_start(table, floats, r, P, Wt, lam, y, B)
+        t = table_start(table, floats, r, P, Wt, lam, y, B, np.empty(int(table[0])))
         if t > 0.0:
             if method == BI_GJK:
                 return bi_gjk_from(ints, floats, r, ws, eps, max_iter, t, P, Wt, lam, n, y, 0)

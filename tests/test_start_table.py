@@ -30,7 +30,8 @@ def _start(A, r):
     n = A.dim
     P, Wt, lam = np.empty((n + 2, n)), np.empty((n + 2, A.witness_size)), np.empty(n + 2)
     y, B = np.empty(n), np.empty((n, n))
-    t = ST.table_start(A._start_table, A.program[1], np.asarray(r, float), P, Wt, lam, y, B)
+    t = ST.table_start(A._start_table, A.program[1], np.asarray(r, float), P, Wt, lam, y, B,
+                      np.empty(int(A._start_table[0])))
     if t > 0.0:
         # B inverts the matrix whose columns are the facet's points; they lie on y^T x = 1
         assert np.allclose(B @ P[:n].T, np.eye(n), atol=1e-9)
