@@ -3,8 +3,8 @@ import math
 
 import numpy as np
 
-from . import _shooters as S
 from ._forces import BAD_WRENCH, SIGNATURE, ZERO_WRENCH, shoot_and_read_forces
+from ._shooters import HIT, MISS
 from ._signature import entry_point, is_vector
 from ._start_table import start_table
 from ._validate import check_choice, finite_vector
@@ -84,11 +84,10 @@ class Grasp:
             call = None
         if call is None:
             call = self._call(norm, magnitude, method)
-        space, code, target, shoot, args = call
+        space, code, shoot, args, A, size, extra, t_scale = call
         eps, max_iter = check_tolerances(eps, max_iter)
-        A = target.set
         start = start_table(A, 6)
-        packed = np.empty(target.packed_size)
+        packed = np.empty(size)
         # the common call, a float64 (6,) array, goes straight to the compiled code, which also
         # checks it; anything else, or a refused wrench, is converted or refused here
         head = None
@@ -102,27 +101,28 @@ class Grasp:
         if status == ZERO_WRENCH:
             return self._without_forces(space, "optimal", 0.0, method, None)
         sigma = packed.item(0)
-        ray = (A, w_ext, head, packed, target.extra)
-        if status == S.MISS or (status == S.HIT and sigma == math.inf):
+        ray = (A, w_ext, head, packed, extra)
+        if status == MISS or (status == HIT and sigma == math.inf):
             # a separating hyperplane, or a ray that leaves W at the origin: no finite forces
-            return self._without_forces(space, "infeasible", math.inf, method, ray,
-                                        target.t_scale)
+            return self._without_forces(space, "infeasible", math.inf, method, ray, t_scale)
         if sigma == math.inf:
-            return self._without_forces(space, "max_iter", math.inf, method, ray,
-                                        target.t_scale)
-        return MinForce.from_packed("optimal" if status == S.HIT else "max_iter", sigma,
-                                    1.0 / (target.t_scale * head[2]), norm, magnitude, method,
-                                    ray, len(self.contacts))
+            return self._without_forces(space, "max_iter", math.inf, method, ray, t_scale)
+        return MinForce.from_packed("optimal" if status == HIT else "max_iter", sigma,
+                                    1.0 / (t_scale * head[2]), norm, magnitude, method, ray,
+                                    len(self.contacts))
 
     def _call(self, norm, magnitude, method):
-        """(space, method code, target, compiled entry point, its constant arguments) of one
-        (norm, magnitude, method), checked and cached: one lookup per min_force call instead of
-        four (~0.4 us of ~9, benchmarks/min_force.py)."""
+        """What min_force needs of one (norm, magnitude, method), checked and gathered once: one
+        lookup a call instead of four and their attributes (~0.5 us of ~9 in all,
+        benchmarks/min_force.py): the wrench space, the method's code, the compiled entry point
+        and its constant arguments, and of the target (graspforce.wrench_space.Target) its set,
+        packed size, extra entries and t_scale."""
         code = METHODS[check_choice(method, METHODS, "method")]
         space = self._space(norm, magnitude)
         target = space.target(method)
-        call = self._calls[(norm, magnitude, method)] = (space, code, target, space.shoot,
-                                                          target.compiled_args)
+        call = self._calls[(norm, magnitude, method)] = (
+            space, code, space.shoot, target.compiled_args, target.set, target.packed_size,
+            target.extra, target.t_scale)
         return call
 
     def _without_forces(self, space, status, sigma, method, ray, t_scale=1):
