@@ -25,9 +25,9 @@ def extra_size(m):
 
 # A Target's force reader (graspforce.wrench_space): how forces are read off witnesses, as one
 # float array read by offsets, since each array a min_force call hands to the compiled code costs
-# ~50 ns to cross from Python (the six this gathers cost ~0.2 us more) and each view made of one
-# costs reference counting. Layout: [witness size, linf, full, m, leaves L, table (4, L) by rows
-# CONTACT, SLOT, SIZE, MAP, G (m, 6, 4), spin_weight (m,), maps].
+# ~50 ns to cross from Python (a zero-wrench call 641 -> 398 ns with the six gathered here) and
+# each view of one costs reference counting. Layout: [witness size, linf, full, m, leaves L,
+# table (4, L) by rows CONTACT, SLOT, SIZE, MAP, G (m, 6, 4), spin_weight (m,), maps].
 READER_HEAD = 5
 
 

@@ -137,9 +137,9 @@ class MinForce:
     filled (graspforce._packed), taken when first read; read-only.
     """
 
-    # slots: min_force builds one record per call, and slot stores cost half a dict's (a record
-    # ~0.2 us less of a ~9 us call, benchmarks/min_force.py); _forces and _shot are left unset
-    # until first read
+    # slots: min_force builds one record per call, and slot stores cost about half a dict's
+    # (0.1-0.3 us of a ~8 us call, timed over a pass of 1000 wrenches); _forces and _shot are
+    # left unset until first read
     __slots__ = ("feasible", "status", "sigma", "sigma_lower", "norm", "magnitude", "method",
                  "iterations", "support_calls", "ray", "_contacts", "_forces", "_shot")
 
