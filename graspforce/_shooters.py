@@ -372,9 +372,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
     P = np.empty((n + 2, n))
     Wt = np.empty((n + 2, ws))
     lam = np.empty(n + 2)
-    P[:kz] = Pz[:kz]
-    Wt[:kz] = Wz[:kz]
-    lam[:kz] = lz[:kz]
+    _keep(Pz, Wz, lz, kz, P, Wt, lam)     # element loops, not slices (`_keep`)
     sc = scratch(n)
     if use_ie and kz == n:
         k = kz            # a warm-start facet (graspforce._warm): IE steps from it at once
@@ -427,9 +425,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                 continue
             if not ok:
                 # rounding broke the facet: return to the last simplex known to hold b_k
-                P[:kz] = Pz[:kz]
-                Wt[:kz] = Wz[:kz]
-                lam[:kz] = lz[:kz]
+                _keep(Pz, Wz, lz, kz, P, Wt, lam)
                 k = _restart(P, Wt, lam, kz, r, sc)
             elif smallest(gam, n) <= 1e-12 * yr:
                 # the ray crosses a lower-dimensional face of the facet: keep that face and
