@@ -194,7 +194,7 @@ def table_start(table, floats, r, P, Wt, lam, y, B, scores):
         total += s
     t = 1.0 / total
     for a in range(n):
-        y[a] = table[y0 + a * F + f]
+        y[a] = Yt[a, f]
         for j in range(n):
             B[a, j] = table[b0 + (f * n + a) * n + j]
     for j in range(n):
