@@ -16,6 +16,7 @@ active, children] (each block nn long but `children`); `floats` = [params, scrat
     cstart[i], ccount[i]   its children are children[cstart[i] : cstart[i] + ccount[i]]
     wstart[i]    leaves: offset of its witness slot [active, local...] in the witness vector
     dstart[i]    offset of its direction in `scratch`: its parent's, unless the parent is affine
+                 (an embedding's child: the last entries of its parent's)
     ostart[i]    offset of its point and value in `scratch`
     choice[i], active[i]   work arrays: a hull's best child, whether node i produced the point
 """
@@ -32,6 +33,8 @@ CONE_CAP = 4   # params: n, mu                             witness: [active, g (
 HULL = 10
 SUM = 11
 AFFINE = 12    # params: m, n, M (m*n), t (m)
+EMBED = 13     # params: m, n, t (m): x -> (0, x) + t, an affine map whose M is [0; I] (k = m - n
+               # zero rows): its child reads the last n entries of its direction in place
 
 
 # the blocks of `ints` after nn, in order (`blocks` gives their offsets to compiled code)
@@ -335,14 +338,14 @@ def support(ints, f, u, point, wit):
             for c in range(ints[CCOUNT + i]):
                 h += f[ints[OSTART + ints[CHILDREN + ints[CSTART + i] + c]] + ni]
         else:
-            # h_{MA + t}(u) = h_A(M^T u) + t^T u
+            # h_{MA + t}(u) = h_A(M^T u) + t^T u; an embedding has no M before its t
             ch = ints[CHILDREN + ints[CSTART + i]]
             nc = ints[DIM + ch]
-            p0 = ints[PSTART + i]
+            t0 = ints[PSTART + i] + 2 + (ni * nc if k == AFFINE else 0)
             di = ints[DSTART + i]
             h = f[ints[OSTART + ch] + nc]
             for a in range(ni):
-                h += f[p0 + 2 + ni * nc + a] * f[di + a]
+                h += f[t0 + a] * f[di + a]
         f[oi + ni] = h
     # flag the leaves that produced the point: every child of a sum, the chosen child of a hull
     ints[ACTIVE] = 1
@@ -379,7 +382,13 @@ def support(ints, f, u, point, wit):
             oc = ints[OSTART + ch]
             nc = ints[DIM + ch]
             p0 = ints[PSTART + i]
-            if ni == 3 and nc == 3:
+            if k == EMBED:
+                lead = ni - nc
+                for a in range(lead):
+                    f[oi + a] = f[p0 + 2 + a]
+                for a in range(nc):
+                    f[oi + lead + a] = f[oc + a] + f[p0 + 2 + lead + a]
+            elif ni == 3 and nc == 3:
                 _affine_3_3_push(f, p0 + 2, oc, oi)
             else:
                 _affine_push(f, p0 + 2, oc, oi, ni, nc)

@@ -26,8 +26,8 @@ import numpy as np
 from numba import njit
 
 from ._jit import borrowing
-from ._kernel import (AFFINE, BOX, CONE_CAP, ELLIPSOID, HULL, POLYTOPE, SUM, _affine_pull,
-                      _cone_cap_support, blocks, cap_direction)
+from ._kernel import (AFFINE, BOX, CONE_CAP, ELLIPSOID, EMBED, HULL, POLYTOPE, SUM,
+                      _affine_pull, _cone_cap_support, blocks, cap_direction)
 
 KINK_TOL = 1e-9   # ||S^T u|| <= KINK_TOL ||S|| ||u||: the piece's support is not smooth there
 FLAT = 2.0        # witness flag of a flat leaf (module docstring)
@@ -284,6 +284,14 @@ def flat_columns(ints, f, leaf, T, off, C, C2):
                 for b in range(q):
                     C[a, b] = C2[a, b]
             rows = m
+        elif ints[KIND + parent] == EMBED:
+            # x -> (0, x) + t: L gains the embedding's leading zero rows
+            m = ints[DIM + parent]
+            lead = m - rows
+            for a in range(m - 1, -1, -1):
+                for b in range(q):
+                    C[a, b] = C[a - lead, b] if a >= lead else 0.0
+            rows = m
         node = parent
     for a in range(rows):
         for b in range(q):
@@ -419,6 +427,20 @@ def piece_support(ints, f, u, pw, point, wit, J, jw, nmax):
                     f[oi + a] += f[oc + a]
                 for a in range(ni * ni):
                     jw[j0 + a] += jw[ch * nsq + a]
+        elif k == EMBED:
+            # x -> (0, x) + t: s = (0, s_c) + t, h = h_c + t^T u, J = [[0, 0], [0, J_c]]
+            ch = ints[CHILDREN + ints[CSTART + i]]
+            oc = ints[OSTART + ch]
+            nc = ints[DIM + ch]
+            lead = ni - nc
+            h = f[oc + nc]
+            for a in range(ni):
+                f[oi + a] = f[p + 2 + a] + (f[oc + a - lead] if a >= lead else 0.0)
+                h += f[p + 2 + a] * f[di + a]
+            for a in range(ni):
+                for a2 in range(ni):
+                    jw[j0 + a * ni + a2] = (jw[ch * nsq + (a - lead) * nc + a2 - lead]
+                                            if a >= lead and a2 >= lead else 0.0)
         else:
             # x -> M x + t: s = M s_c + t, h = h_c + t^T u, J = M J_c M^T
             ch = ints[CHILDREN + ints[CSTART + i]]

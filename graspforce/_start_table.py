@@ -13,8 +13,10 @@ vertices a_j. That facet is IE's start: a facet of points of A that the ray cros
 Nothing of the table is trusted beyond that: t_0 r is the convex combination (gam / sum gam) of
 support points of A, so t_0 <= t* whichever facet the lookup picked; IE's steps and stopping rule
 are unchanged. The table keeps a copy of the set's parameters and is ignored when they changed
-(graspforce._growth rewrites a set's poses in place), and when the ray meets a ridge of CH(P_0)
-(some gam_j < 0 by rounding): ZC then starts from the origin as usual.
+(graspforce._growth rewrites a set's poses in place), and when no facet of the table holds the
+ray (some gam_j < 0: a ridge met to rounding, or a facet left out below): ZC then starts from the
+origin as usual. A facet of CH(P_0) with more than n points is split by Qhull into simplices that
+share its hyperplane; the lookup takes the one of them that holds the ray.
 
 A table costs 2n support calls, a convex hull (scipy's Qhull) and one inverse per facet: ~1 ms
 in R^6 (F = 87 facets on the ingot), ~10 ms in R^10 with F ~ 2000, where the lookup's F n
@@ -22,8 +24,10 @@ products would cost more than the ZC search they replace; so tables are built fo
 only, at a set's second shot (a set shot once never pays for one). The exception: rays that live
 in the last k <= MAX_DIM coordinates of a set in up to R^MAX_HULL_DIM (min_force's shots at
 W_Linf's lift, graspforce.wrench_space). Half of P_0 then spans that subspace, and the table keeps
-only the facets those rays leave through: 59 of ~530 on the ingot's lift in R^9, where the
-table cuts ZC's 11 support calls (~20 us of 53) to none.
+only the facets those rays leave through, found by random rays spread like P_0's points in that
+subspace: ~320 of ~530 on the ingot's lift in R^9, where the table cuts ZC's 11 support calls
+(~20 us of 53) to none. (Isotropic rays kept 69, and 15% of the benchmark's wrenches found
+no facet and started cold, ~9 us slower each.)
 """
 import numpy as np
 from numba import njit
@@ -39,11 +43,13 @@ from ._shooters import (BI_GJK, IE, WITH_IE, WITH_NEWTON, ZC_IE, ZC_IE_NEWTON, b
 MAX_DIM = 8
 MAX_HULL_DIM = 9      # rays in a subspace of dimension <= MAX_DIM: Qhull in up to R^9 (W_Linf's
                       # lift for 4 contacts: 16 points, ~530 facets, 2 ms)
-SLICE_RAYS = 4096     # random rays that pick the facets kept for rays in a subspace
+SLICE_RAYS = 16384    # random rays that pick the facets kept for rays in a subspace
 MAX_BASES = 3         # bases of directions tried for an inner polytope around the origin
 HEADER = 5            # [facets F, n, witness size, parameters, points]
 CONVEX_TOL = 1e-6     # y_f^T p <= 1 + CONVEX_TOL for every point p: y_f supports CH(P_0)
 MAX_COND = 1e10       # condition number of a facet's vertex matrix kept in the table
+TIE_TOL = 1e-6        # facets whose y_f^T r is within this of the largest: one facet of CH(P_0)
+                      # with more than n points, triangulated (all share its hyperplane)
 
 # a set's table state (ConvexSet._start_table): not shot yet, shot once, or no table (not
 # applicable: n too large, a flat set, the origin not strictly inside CH(P_0))
@@ -82,6 +88,17 @@ def _directions(n, bases, k):
             q[:n - k, :n - k] = np.linalg.qr(rng.normal(size=(n - k, n - k)))[0]
         out += [q, -q]
     return np.vstack(out)
+
+
+def _spread(points):
+    """L^T for the Cholesky factor L of the points' covariance: z L^T ~ N(0, cov) for z ~ N(0, I).
+    Random rays spread like the set itself meet its facets in proportion to the rays that real
+    problems shoot: isotropic ones, in a wrench space whose torques are 25x smaller than its
+    forces (the ingot), missed the facets of 15% of the benchmark's wrenches (BENCHMARKS.md,
+    "Stop 19")."""
+    k = points.shape[1]
+    cov = np.cov(points.T)
+    return np.linalg.cholesky(cov + 1e-12 * np.trace(cov) * np.eye(k)).T
 
 
 def build_start_table(A, ray_dims=None):
@@ -130,10 +147,12 @@ def _table(A, directions, k):
     n = A.dim
     if k < n:
         # of CH(P_0)'s facets in R^n (~530 for W_Linf's lift on 4 contacts) the rays of the
-        # subspace leave through few (~70): those that random rays pick. A ray whose facet was
-        # missed picks one whose weights B_f r are not all >= 0, and starts cold.
-        rays = np.random.default_rng(k).normal(size=(SLICE_RAYS, k))
-        used = np.unique(np.argmax(normals[:, n - k:] @ rays.T, axis=0))
+        # subspace leave through some (~320): those that random rays pick, with the simplices
+        # tied with them. A ray whose facet was missed starts cold.
+        rays = np.random.default_rng(k).normal(size=(SLICE_RAYS, k)) @ _spread(points[:, n - k:])
+        scores = rays @ normals[:, n - k:].T
+        tied = scores >= (1.0 - TIE_TOL) * scores.max(axis=1, keepdims=True)
+        used = np.flatnonzero(tied.any(axis=0))
         faces, inverse, normals = faces[used], inverse[used], normals[used]
     ints, floats = A.program
     npar = params_size(ints)
@@ -141,6 +160,23 @@ def _table(A, directions, k):
     # normals by coordinate, (n, F): see table_start
     return np.concatenate((header, floats[:npar], normals.T.ravel(), inverse.ravel(),
                            faces.ravel(), points.ravel(), witnesses.ravel())).astype(float)
+
+
+@njit(cache=True, inline='always')
+def _weights(table, b0, f, r, lam):
+    """lam = B_f r, the weights of r on facet f's vertices, and their sum; 0.0 when one is
+    negative (the ray does not cross that simplex)."""
+    n = r.shape[0]
+    total = 0.0
+    for j in range(n):
+        s = 0.0
+        for a in range(n):
+            s += table[b0 + (f * n + j) * n + a] * r[a]
+        if s < 0.0:
+            return 0.0
+        lam[j] = s
+        total += s
+    return total
 
 
 @borrowing
@@ -168,11 +204,14 @@ def table_start(table, floats, r, P, Wt, lam, y, B, scores):
     # y_f^T r of all facets a coordinate at a time, on a 2-D view: the inner loop runs along F
     # and vectorizes (its indices provably >= 0), where one facet's product waits on each of
     # its n additions (ingot, F = 87: 0.29 -> 0.12 us a lookup, jitted loop over 1000 rays)
+    # ... skipping the coordinates where r is 0 (W_Linf's lift: the first m - 1)
     Yt = table[y0:y0 + n * F].reshape(n, F)
     for g in range(F):
-        scores[g] = Yt[0, g] * r[0]
-    for a in range(1, n):
+        scores[g] = 0.0
+    for a in range(n):
         ra = r[a]
+        if ra == 0.0:
+            continue
         for g in range(F):
             scores[g] += Yt[a, g] * ra
     best = 0.0
@@ -183,15 +222,18 @@ def table_start(table, floats, r, P, Wt, lam, y, B, scores):
             f = g
     if f < 0:
         return 0.0
-    total = 0.0
-    for j in range(n):
-        s = 0.0
-        for a in range(n):
-            s += table[b0 + (f * n + j) * n + a] * r[a]
-        if s < 0.0:
+    total = _weights(table, b0, f, r, lam)
+    if total == 0.0:
+        # the ray's exit facet of CH(P_0) has more than n points and Qhull split it into
+        # simplices that tie in y_f^T r: the one that holds the exit point has lam >= 0
+        for g in range(F):
+            if g != f and scores[g] >= (1.0 - TIE_TOL) * best:
+                total = _weights(table, b0, g, r, lam)
+                if total > 0.0:
+                    f = g
+                    break
+        if total == 0.0:
             return 0.0
-        lam[j] = s
-        total += s
     t = 1.0 / total
     for a in range(n):
         y[a] = Yt[a, f]

@@ -364,6 +364,14 @@ def _point_from_witness(node, locals_, counter):
     return None if parts[0] is None else node.matrix @ parts[0] + node.offset
 
 
+def _is_embedding(M):
+    """Whether M is [0; I] with at least one zero row: the map x -> (0, x) that lifts a set into
+    a space of more dimensions (min_force's lift of W_Linf, graspforce.wrench_space). It compiles
+    to no product at all (`_kernel.EMBED`)."""
+    m, n = M.shape
+    return m > n and not M[:m - n].any() and np.array_equal(M[m - n:], np.eye(n))
+
+
 def _compile(root):
     """Flatten the tree in pre-order into the arrays of `_kernel.support`."""
     nodes = []   # (set, parent index)
@@ -390,8 +398,11 @@ def _compile(root):
     pos = dpos = wpos = 0
     for i, (node, parent) in enumerate(nodes):
         dim[i] = node.dim
-        # a hull or a sum hands its direction to its children unchanged: they read it in place
-        if parent >= 0 and kind[parent] != K.AFFINE:
+        # a hull or a sum hands its direction to its children unchanged: they read it in place;
+        # an embedding's child reads its last entries
+        if parent >= 0 and kind[parent] == K.EMBED:
+            dstart[i] = dstart[parent] + dim[parent] - node.dim
+        elif parent >= 0 and kind[parent] != K.AFFINE:
             dstart[i] = dstart[parent]
         else:
             dstart[i] = dpos
@@ -407,8 +418,15 @@ def _compile(root):
             wpos += size
         else:
             kind[i] = {Hull: K.HULL, MinkowskiSum: K.SUM, Affine: K.AFFINE}[type(node)]
-            p = (np.concatenate(([node.dim, node.inner.dim], node.matrix.ravel(), node.offset))
-                 if isinstance(node, Affine) else np.zeros(0))
+            if isinstance(node, Affine):
+                if _is_embedding(node.matrix):
+                    kind[i] = K.EMBED
+                    p = np.concatenate(([node.dim, node.inner.dim], node.offset))
+                else:
+                    p = np.concatenate(([node.dim, node.inner.dim], node.matrix.ravel(),
+                                        node.offset))
+            else:
+                p = np.zeros(0)
             cstart[i] = len(children)
             ccount[i] = len(children_of[i])
             children.extend(children_of[i])

@@ -47,9 +47,7 @@ MAGNITUDES = ("normal", "full")
 def contact_set(contact, magnitude, lift=()):
     """(W_i, base, local_map): the wrench set of one contact and how its leaf's witness maps to a
     unit contact force, f = base + local_map @ local; with `lift` e (k entries), {e} x W_i in
-    R^(k + 6) instead."""
-    e = np.asarray(lift, dtype=float)
-    G = np.vstack((np.zeros((e.shape[0], 4)), contact.matrix))
+    R^(k + 6) instead (an embedding: the kernel evaluates W_i in R^6 and prepends e)."""
     if magnitude == "normal":
         # the ellipse's axes: only the friction components this contact has
         axes = [(1, contact.mu), (2, contact.mu)] if contact.mu > 0.0 else []
@@ -59,15 +57,21 @@ def contact_set(contact, magnitude, lift=()):
         for col, (row, coefficient) in enumerate(axes):
             local_map[row, col] = coefficient
         base = np.array([1.0, 0.0, 0.0, 0.0])
-        return Ellipsoid(np.concatenate((e, contact.matrix[:, 0])), G @ local_map), base, local_map
-    # full magnitude: g = D f lives in the cone of the contact's own dimension
-    size = 4 if contact.mu_spin > 0.0 else 3
-    local_map = np.zeros((4, size))
-    local_map[:3, :3] = np.eye(3)
-    if size == 4:
-        local_map[3, 3] = contact.mu_spin / contact.mu       # D^{-1}
-    return (affine(G @ local_map, ConeCap(contact.mu, size), np.concatenate((e, np.zeros(6)))),
-            np.zeros(4), local_map)
+        W_i = Ellipsoid(contact.matrix[:, 0], contact.matrix @ local_map)
+    else:
+        # full magnitude: g = D f lives in the cone of the contact's own dimension
+        size = 4 if contact.mu_spin > 0.0 else 3
+        local_map = np.zeros((4, size))
+        local_map[:3, :3] = np.eye(3)
+        if size == 4:
+            local_map[3, 3] = contact.mu_spin / contact.mu       # D^{-1}
+        base = np.zeros(4)
+        W_i = affine(contact.matrix @ local_map, ConeCap(contact.mu, size))
+    e = np.asarray(lift, dtype=float)
+    if e.shape[0]:
+        W_i = affine(np.vstack((np.zeros((e.shape[0], 6)), np.eye(6))), W_i,
+                     np.concatenate((e, np.zeros(6))))
+    return W_i, base, local_map
 
 
 def lift_rows(m):

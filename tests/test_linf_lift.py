@@ -64,3 +64,25 @@ def test_lift_halves_ie_steps_on_the_ingot():
         steps_W.append(on_W.iterations)
         steps_C.append(gf.ray_shoot(C, np.concatenate((np.zeros(3), -w))).iterations)
     assert np.median(steps_C) <= 0.6 * np.median(steps_W)
+
+
+@pytest.mark.parametrize("magnitude", ["normal", "full"])
+def test_second_order_finish_on_the_lift(magnitude):
+    # the lift's contact sets are embeddings [0; I] of the R^6 ones (graspforce._kernel.EMBED):
+    # ZC-IE-Newton's pieces, curvature and flat leaves pass through them (graspforce._piece).
+    # Rays towards points of lam_1 W_1 + ... + lam_m W_m (0 < lam_i < 1), inside W_Linf; contacts
+    # with friction, at least three (two contacts never hold an object in closure, and rays near
+    # the boundary of their wrench cone stall ZC: the note of stop 19)
+    rng = np.random.default_rng(5)
+    for m in range(3, LIFT_MAX_CONTACTS + 1):
+        grasp = random_grasp(rng, m, kinds=("soft", "point"))
+        C = grasp._space("Linf", magnitude).target("zc-ie").set
+        W = grasp.wrench_set("Linf", magnitude)
+        for _ in range(4):
+            r = sum(rng.uniform(0.2, 1.0) * W_i.support(rng.normal(size=6))[1]
+                    for W_i in grasp.contact_sets(magnitude))
+            on_W = gf.ray_shoot(W, r, method="ie", eps=1e-12)
+            on_C = gf.ray_shoot(C, np.concatenate((np.zeros(m - 1), r)), method="zc-ie-newton",
+                                eps=1e-12)
+            assert on_W.hit and on_C.hit
+            assert m * on_C.t == pytest.approx(on_W.t, rel=3e-12)

@@ -26,6 +26,13 @@ def _sets(rng):
         gf.affine(rng.normal(size=(6, 4)), gf.ConeCap(0.5, 4)),
         gf.minkowski_sum(gf.Polytope(rng.normal(size=(8, 3))), gf.Capsule(0.2, 0.5)),
         gf.Box([1.0, 2.0, 3.0], rng.normal(size=3), R),
+        # an embedding [0; I] (min_force's Linf lift) over an ellipsoid and a cone cap
+        gf.hull(gf.Polytope(rng.normal(size=(3, 8))),
+                gf.affine(np.vstack((np.zeros((2, 6)), np.eye(6))),
+                          gf.Ellipsoid(rng.normal(size=6), rng.normal(size=(6, 3))),
+                          rng.normal(size=8)),
+                gf.affine(np.vstack((np.zeros((2, 6)), np.eye(6))),
+                          gf.affine(rng.normal(size=(6, 4)), gf.ConeCap(0.5, 4)))),
     ]
 
 
@@ -38,7 +45,7 @@ def _piece(A, u, pw):
     return h, point, wit, J
 
 
-@pytest.mark.parametrize("which", range(5))
+@pytest.mark.parametrize("which", range(6))
 def test_piece_support_is_the_support_and_its_jacobian_the_derivative(which):
     rng = np.random.default_rng(which)
     A = _sets(rng)[which]
@@ -88,6 +95,21 @@ def test_flat_leaf_moves_along_its_columns():
     we = np.empty(E.witness_size)
     support(*E.program, u, np.empty(3), we)
     assert np.allclose(J, _piece(E, u, we)[3], atol=1e-14)
+
+
+def test_flat_leaf_columns_through_an_embedding():
+    # L S with L = [0; I] R (a pose under an embedding): the leaf's columns, zero-padded on top
+    rng = np.random.default_rng(8)
+    R = random_rotation(rng, 3)
+    S = np.diag([0.1, 0.2, 0.3])
+    A = gf.affine(np.vstack((np.zeros((2, 3)), np.eye(3))),
+                  gf.pose(gf.Ellipsoid(np.zeros(3), S), R, rng.normal(size=3)), rng.normal(size=5))
+    ints, f = A.program
+    _, nmax, qmax = jacobian_size(ints, f)
+    leaf = next(i for i in range(ints[0]) if ints[1 + i] == 1)
+    T_ = np.empty((5, 3))
+    assert flat_columns(ints, f, leaf, T_, 0, np.empty((nmax, qmax)), np.empty((nmax, qmax))) == 3
+    assert np.allclose(T_, np.vstack((np.zeros((2, 3)), R @ S)), atol=1e-15)
 
 
 @pytest.mark.parametrize("deficient", [0, 1, 3])

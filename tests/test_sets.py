@@ -185,6 +185,15 @@ def operator_cases():
                          T.affine(R, T.tcone(0.3, 0.6, 1.0), t=p), T.poly(V3 + 1.0)),
         "sum_of_hulls": T.msum(T.hull(T.poly(V3), T.ball(np.zeros(3), 1.0)),
                                T.hull(T.ell(c3, S3), T.tcone(0.5, 0.5, 1.0))),
+        # [0; I]: the embeddings of min_force's Linf lift, compiled to an offset read
+        "embed_5x3": T.affine(np.vstack((np.zeros((2, 3)), np.eye(3))),
+                              T.hull(T.ell(c3, S3), T.poly(V3)), t=[1.0, -2.0, 0.5, 0.0, 3.0]),
+        "embed_in_hull": T.hull(T.poly(rng.standard_normal((3, 7))),
+                                T.affine(np.vstack((np.zeros((1, 6)), np.eye(6))),
+                                         T.msum(T.ell(*random_ellipsoid(rng, 6, 3)),
+                                                T.box(np.full(6, 0.1))), t=np.arange(7.0)),
+                                T.affine(np.vstack((np.zeros((4, 3)), np.eye(3))),
+                                         T.affine(R, T.tcone(0.3, 0.6, 1.0), t=p))),
     }
     return cases
 
@@ -212,6 +221,20 @@ def test_operator_support(name):
     rng = np.random.default_rng(700)
     for u in unit_dirs(rng, n, 40):
         check_support(A, d, u)
+
+
+def test_only_strict_embeddings_compile_to_offset_reads():
+    # [0; I] with zero rows is EMBED; a square identity stays AFFINE, because growth distance
+    # rewrites its poses' matrices in place (graspforce._growth), and so does a near-embedding
+    from graspforce import _kernel as K
+    inner = gf.Ball(np.zeros(3), 1.0)
+    M = np.vstack((np.zeros((2, 3)), np.eye(3)))
+    near = M.copy()
+    near[0, 1] = 1e-300
+    for matrix, kind in ((M, K.EMBED), (np.eye(3), K.AFFINE), (near, K.AFFINE),
+                         (np.vstack((np.eye(3), np.zeros((2, 3)))), K.AFFINE)):
+        ints, _ = gf.affine(matrix, inner).program
+        assert ints[1] == kind
 
 
 def test_neg_and_pose_identities():

@@ -90,6 +90,42 @@ def test_table_for_rays_in_a_subspace(n):
     assert warm >= 45
 
 
+def test_rays_through_a_split_facet_start_warm():
+    # a box's support points in three bases' directions are its 8 corners: CH(P_0) is the box,
+    # each square face split by Qhull into two triangles on one plane; the lookup's best
+    # y_f^T r ties between them, and it must take the one holding the ray
+    A = gf.Box([1.0, 2.0, 0.5])
+    A._start_table = ST._table(A, ST._directions(3, 3, 3), 3)
+    points, _ = _table_parts(A._start_table)
+    normals = np.round(ConvexHull(points, qhull_options="QJ").equations[:, :3], 6)
+    assert len(np.unique(normals, axis=0)) < len(normals)        # some facets are split
+    rng = np.random.default_rng(4)
+    for _ in range(200):
+        r = rng.standard_normal(3)
+        t, P, lam, _ = _start(A, r)
+        hit, t_lp, _ = T.ray_shoot_lp(points, r)
+        assert t > 0.0 and abs(t - t_lp) <= 1e-9 * t_lp
+        assert lam.min() >= 0.0 and np.allclose(lam @ P, t * r, atol=1e-12)
+
+
+def test_lift_table_serves_the_benchmark_wrenches():
+    # W_Linf's lift on the ingot: its table keeps the facets that wrench-like rays leave through
+    # (rays drawn spread like P_0, not isotropic: those missed 15% of these wrenches)
+    from benchmarks.grasp_sets import ingot_grasp, random_wrenches as ingot_wrenches
+    C = ingot_grasp()._space("Linf", "normal").target("zc-ie").set
+    C._start_table = ST.build_start_table(C, 6)
+    points, _ = _table_parts(C._start_table)
+    warm = 0
+    wrenches = ingot_wrenches(300, 5)
+    for w in wrenches:
+        r = np.concatenate((np.zeros(3), -w))
+        t, P, lam, _ = _start(C, r)
+        if t > 0.0:
+            warm += 1
+            assert abs(t - T.ray_shoot_lp(points, r)[1]) <= 1e-9 * t
+    assert warm >= 0.99 * len(wrenches)
+
+
 @pytest.mark.parametrize("method", TABLE_METHODS)
 @pytest.mark.parametrize("n", range(2, 9))
 def test_repeated_shots_use_the_table_and_keep_the_contract(method, n, check_shot):
