@@ -3,8 +3,8 @@ import numpy as np
 from numba import njit
 
 from ._ie import ie
-from ._shooters import (BI_GJK, GJK_BASED, HIT, IE, WITH_IE, WITH_NEWTON, ZC_IE, ZC_IE_NEWTON,
-                        ZC_ONLY, bi_gjk, gjk_based, zc_family, zc_from)
+from ._shooters import (BI_GJK, GJK_BASED, HIT, IE, LIMIT, WITH_IE, WITH_NEWTON, ZC_IE,
+                        ZC_IE_NEWTON, ZC_ONLY, bi_gjk, gjk_based, zc_family, zc_from)
 
 
 @njit(cache=True)
@@ -22,7 +22,9 @@ def shoot(ints, floats, r, ws, method, eps, max_iter):
         out = bi_gjk(ints, floats, r, ws, eps, max_iter)
     else:
         out = zc_family(ints, floats, r, ws, eps, max_iter, ZC_ONLY)
-    if out[0] != HIT or out[2] - out[1] <= eps * out[1]:
+    # a LIMIT short of max_iter is a stall (zc_from): handed over like an uncertified hit
+    stalled = out[0] == LIMIT and out[4] < max_iter
+    if not stalled and (out[0] != HIT or out[2] - out[1] <= eps * out[1]):
         return out
     # GJK's simplex and ZC's cone from b_k lose rank near the boundary (relative singular values
     # ~1e-13) and can stall above eps, seen on a third of the ingot grasp's rays at eps = 1e-9.

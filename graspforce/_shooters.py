@@ -26,6 +26,9 @@ HIT = 0
 MISS = 1
 LIMIT = 2
 FACET = 3   # internal: ZC-based iterations reached a facet the ray crosses (IE takes over)
+# a ZC stall is a hit when its bracket is within eps or this (below it double precision cannot
+# always certify: docs/core-api.md, "Numerical floor")
+STALL_FLOOR = 1e-11
 
 ZC_ONLY = 0
 WITH_IE = 1
@@ -554,10 +557,16 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
             # CONVERGED here means h_A(n) <= 0 < n^T r: a certified miss. STALLED means r lies
             # on the boundary of CO(A) to rounding: the ray at most grazes A, reported a miss.
             return _result(MISS, 0.0, 0.0, h, it, calls, nvec, P, lam, Wt, 0, 0)
-        # converged (or stalled at rounding): z = b_k, supported by H(n, s_A(n))
+        # converged (or stalled): z = b_k, supported by H(n, s_A(n)). A stall certifies
+        # nothing by itself: ZC's cone from b_k also loses rank far from z_A(r), on rays near
+        # the boundary of a set whose origin is on its boundary (two contacts' wrench set, which
+        # is never force-closure: gaps up to 2% were reported as hits). Then the bracket stands,
+        # with the status of an unfinished shot.
         h_n = h + t * dot(nvec, r)
-        return _result(HIT, t, h_n / dot(nvec, r), h_n, it, calls, nvec, Pz, lz, Wz, kz,
-                       singular)
+        t_up = h_n / dot(nvec, r)
+        certified = st == CONVERGED or t_up - t <= max(eps, STALL_FLOOR) * t
+        return _result(HIT if certified else LIMIT, t, t_up, h_n, it, calls, nvec, Pz, lz, Wz,
+                       kz, singular)
     return _result(LIMIT, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz, singular)
 
 
