@@ -464,17 +464,34 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     # of the facet's points, checked by its residual (the updated inverse's
                     # drift shows there). Failing that, LU solves on a fresh factorization.
                     nr = dot(nvec, r)
-                    gsum = 0.0
-                    for j in range(n):
-                        gsum += gam[j]
-                    if gsum > 0.0 and smallest(gam, n) >= 0.0:
+                    for refine in range(2):
+                        if refine == 1:
+                            # one step of iterative refinement with the updated inverse:
+                            # gam += B (r - sum_j gam_j P_j), ~3 n^2 flops where the LU
+                            # below costs ~n^3 / 3 + 4 n^2 (taken on 66% of W_Linf's lift's
+                            # shots on the ingot, 24% of W_L1's)
+                            for i in range(n):
+                                e = r[i]
+                                for j in range(n):
+                                    e -= gam[j] * P[j, i]
+                                alpha[i] = e
+                            _matvec(B, n, alpha, v)
+                            for j in range(n):
+                                gam[j] += v[j]
+                        gsum = 0.0
+                        for j in range(n):
+                            gsum += gam[j]
+                        if not (gsum > 0.0 and smallest(gam, n) >= 0.0):
+                            break
                         tz = 1.0 / gsum
+                        if h / nr - tz > eps * tz:
+                            break
                         for j in range(n):
                             lam[j] = gam[j] * tz
                             b[j] = tz * r[j]
                         # relative, unlike `reproduce`'s floor: A's units do not matter
                         res, bb = residual2(P, lam, n, b)
-                        if h / nr - tz <= eps * tz and res <= 1e-24 * bb:
+                        if res <= 1e-24 * bb:
                             kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
                             return _result(HIT, tz, h / nr, h, it, calls, nvec, Pz, lz, Wz, kz,
                                            singular)
