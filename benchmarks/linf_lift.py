@@ -7,7 +7,7 @@ call and alternating (the machine's speed drifts too much for two runs one after
 reports medians of the per-call times, the per-call ratio and the iterations: on the ingot grasp
 of table 5 (1000 wrenches), and on m soft fingers at random points of a sphere (the grasps of
 benchmarks/many_contacts.py, 200 wrenches), where the lift's larger IE steps stop paying
-(graspforce.wrench_space.LIFT_MAX_CONTACTS; the rows for 6 and 8 contacts force the lift).
+(graspforce.wrench_space.LIFT_MAX_CONTACTS; the row for 8 contacts forces the lift).
 
     python -m benchmarks.linf_lift [--out benchmarks/results/linf_lift.md]
 """

@@ -41,12 +41,14 @@ def test_lift_meets_the_ray_where_the_sum_does(magnitude):
 
 def test_which_methods_and_grasps_shoot_the_lift():
     four = box_grasp()
-    five = gf.Grasp(list(four.contacts) + [four.contacts[0]])
+    six = gf.Grasp(list(four.contacts) + list(four.contacts[:2]))
+    seven = gf.Grasp(list(six.contacts) + [four.contacts[0]])
     for method in gf.METHODS:
         lifted = method in LIFTED_METHODS
         assert four._space("Linf", "normal").target(method).set.dim == (9 if lifted else 6)
+        assert six._space("Linf", "normal").target(method).set.dim == (11 if lifted else 6)
         assert four._space("L1", "normal").target(method).set.dim == 6
-        assert five._space("Linf", "normal").target(method).set.dim == 6
+        assert seven._space("Linf", "normal").target(method).set.dim == 6
 
 
 def test_lift_halves_ie_steps_on_the_ingot():
