@@ -33,8 +33,9 @@ CONE_CAP = 4   # params: n, mu                             witness: [active, g (
 HULL = 10
 SUM = 11
 AFFINE = 12    # params: m, n, M (m*n), t (m)
-EMBED = 13     # params: m, n, t (m): x -> (0, x) + t, an affine map whose M is [0; I] (k = m - n
-               # zero rows): its child reads the last n entries of its direction in place
+EMBED = 13     # params: m, n, span, t (m): x -> (0, x) + t, an affine map whose M is [0; I]
+               # (k = m - n zero rows): its child reads the last n entries of its direction in
+               # place; t is zero after its first `span` entries (the lift's t = (e_i - c, 0))
 
 
 # the blocks of `ints` after nn, in order (`blocks` gives their offsets to compiled code)
@@ -338,13 +339,19 @@ def support(ints, f, u, point, wit):
             for c in range(ints[CCOUNT + i]):
                 h += f[ints[OSTART + ints[CHILDREN + ints[CSTART + i] + c]] + ni]
         else:
-            # h_{MA + t}(u) = h_A(M^T u) + t^T u; an embedding has no M before its t
+            # h_{MA + t}(u) = h_A(M^T u) + t^T u; an embedding's t follows its span, no M
             ch = ints[CHILDREN + ints[CSTART + i]]
             nc = ints[DIM + ch]
-            t0 = ints[PSTART + i] + 2 + (ni * nc if k == AFFINE else 0)
+            p0 = ints[PSTART + i]
+            if k == AFFINE:
+                t0 = p0 + 2 + ni * nc
+                span = ni
+            else:
+                t0 = p0 + 3
+                span = int(f[p0 + 2])
             di = ints[DSTART + i]
             h = f[ints[OSTART + ch] + nc]
-            for a in range(ni):
+            for a in range(span):
                 h += f[t0 + a] * f[di + a]
         f[oi + ni] = h
     # flag the leaves that produced the point: every child of a sum, the chosen child of a hull
@@ -385,9 +392,9 @@ def support(ints, f, u, point, wit):
             if k == EMBED:
                 lead = ni - nc
                 for a in range(lead):
-                    f[oi + a] = f[p0 + 2 + a]
+                    f[oi + a] = f[p0 + 3 + a]
                 for a in range(nc):
-                    f[oi + lead + a] = f[oc + a] + f[p0 + 2 + lead + a]
+                    f[oi + lead + a] = f[oc + a] + f[p0 + 3 + lead + a]
             elif ni == 3 and nc == 3:
                 _affine_3_3_push(f, p0 + 2, oc, oi)
             else:

@@ -435,8 +435,8 @@ def piece_support(ints, f, u, pw, point, wit, J, jw, nmax):
             lead = ni - nc
             h = f[oc + nc]
             for a in range(ni):
-                f[oi + a] = f[p + 2 + a] + (f[oc + a - lead] if a >= lead else 0.0)
-                h += f[p + 2 + a] * f[di + a]
+                f[oi + a] = f[p + 3 + a] + (f[oc + a - lead] if a >= lead else 0.0)
+                h += f[p + 3 + a] * f[di + a]
             for a in range(ni):
                 for a2 in range(ni):
                     jw[j0 + a * ni + a2] = (jw[ch * nsq + (a - lead) * nc + a2 - lead]

@@ -421,7 +421,8 @@ def _compile(root):
             if isinstance(node, Affine):
                 if _is_embedding(node.matrix):
                     kind[i] = K.EMBED
-                    p = np.concatenate(([node.dim, node.inner.dim], node.offset))
+                    span = np.flatnonzero(node.offset)[-1] + 1 if node.offset.any() else 0
+                    p = np.concatenate(([node.dim, node.inner.dim, span], node.offset))
                 else:
                     p = np.concatenate(([node.dim, node.inner.dim], node.matrix.ravel(),
                                         node.offset))
