@@ -85,8 +85,9 @@ def lift_rows(m):
 # the Newton finish takes more time there, not less (BENCHMARKS.md, "The Linf lift").
 LIFTED_METHODS = ("ie", "zc-ie")
 # ... and only for a few contacts: an IE step's algebra grows as (m + 5)^2 and the lift's steps
-# stop halving (grasps on a sphere, lift over sum per call: m = 2 0.71, 4 0.60, 6 0.80, 8 0.99
-# since the lift's contact sets are embeddings; 0.74, 0.80, 1.03, 1.29 before)
+# stop halving (grasps on a sphere, lift over sum per call: m = 2 0.71, 4 0.60, 6 0.84, 8 0.99
+# since the lift's contact sets are embeddings, benchmarks/results/linf_lift.md; 0.73, 0.71,
+# 1.02, 1.28 before)
 LIFT_MAX_CONTACTS = 6
 
 
