@@ -40,6 +40,9 @@ NEWTON_STEPS = 12      # Newton steps of one attempt, over all changes of the pi
 STEP_TOL = 1e-7        # ||du|| <= STEP_TOL ||u||: one more step leaves an error far below eps
 FLAT_RHO = 1e-3        # ||T^T u|| <= FLAT_RHO ||T|| ||u|| on the facet's normal: the leaf is flat
 FLAT_SPREAD = 0.5      # or its facet vertices' mean local point is this far inside (squared)
+# a corner finish's rank tolerance, relative to the KKT matrix's largest entry: rounding in u
+# and the curvatures of the pieces, amplified where the normal is far from unique
+CORNER_RANK = 1e-9
 MAX_CHANGES = 6        # changes of the piece set in one attempt
 
 
@@ -86,12 +89,45 @@ def _mark_flat(ints, f, PW, p, leaf, x):
 
 
 @borrowing
+def _shortest_u(u, n, N, rank, lu, pcol, dx, mats, vecs):
+    """Move the basic solution dx of a rank-deficient system (`solve_basic`'s factors in lu,
+    pcol) within the system's null space so that u + du is shortest. The null space is spanned
+    by the columns Q [-U11^-1 U12; I] of the complete-pivoting factors. mats (3, N, N) and
+    vecs (3, N) are scratch."""
+    Z, D, work = mats[0], mats[1], mats[2]
+    x, rhs, wrhs = vecs[0], vecs[1], vecs[2]
+    q = N - rank
+    for e in range(q):
+        col = rank + e
+        for i in range(rank - 1, -1, -1):
+            s = lu[i, col]
+            for j in range(i + 1, rank):
+                s -= lu[i, j] * x[j]
+            x[i] = s / lu[i, i]
+        for i in range(N):
+            Z[i, e] = 0.0
+        Z[pcol[col], e] = 1.0
+        for i in range(rank):
+            Z[pcol[i], e] = -x[i]
+    for i in range(n):
+        for e in range(q):
+            D[i, e] = Z[i, e]
+        rhs[i] = -(u[i] + dx[i])
+    # False when some null direction leaves u alone (free weights): the basic solution stands
+    if lstsq(D, n, q, rhs, x, 0, work, wrhs):
+        for i in range(N):
+            for e in range(q):
+                dx[i] += Z[i, e] * x[e]
+
+
+@borrowing
 def _solve_kkt(r, u, t, tau, lam, S, JJ, m, T, y, nf, ny, fpiece, foff, fq, sm, K, lu, prow, pcol,
-               rhs, dx):
+               rhs, dx, corner, mats, vecs):
     """One Newton step of the KKT system (module docstring) into dx = (du, dlam, dy, dt, dtau),
     by LU with partial pivoting, or a basic solution (complete pivoting) where the weights are
     not unique (two flat leaves that share a direction: two fingers on one face whose friction
-    split is free). sm: (m, n) work for the pieces' smooth parts."""
+    split is free). sm: (m, n) work for the pieces' smooth parts. corner: every step by
+    complete pivoting, the shortest u (newton_finish); mats, vecs: `_shortest_u`'s scratch."""
     n = r.shape[0]
     N = n + m + ny + 2
     it = n + m + ny
@@ -142,6 +178,11 @@ def _solve_kkt(r, u, t, tau, lam, S, JJ, m, T, y, nf, ny, fpiece, foff, fq, sm, 
     for b in range(n):
         K[row + 1, b] = r[b]
     rhs[row + 1] = 1.0 - dot(u, r)
+    if corner:
+        rank = solve_basic(K, N, lu, prow, pcol, rhs, dx, CORNER_RANK)
+        if rank < N:
+            _shortest_u(u, n, N, rank, lu, pcol, dx, mats, vecs)
+        return rank > 0
     if lu_factor(K, N, lu, prow):
         lu_solve(lu, prow, N, rhs, dx)
         return True
@@ -174,12 +215,21 @@ def _failed(t, t_up, h, steps, calls, nrm, S, lm, WS):
 
 
 @njit(cache=True)
-def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
+def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t, corner):
     """Try to finish a shot from the simplex P[:k] (witnesses Wt, weights lam: t r is their
     convex combination or near it) and the normal of its facet. Returns (ok, t, t_upper, h_n,
     m, newton_steps, support_calls, normal, V, weights, W): on ok, z = t r is the convex
     combination `weights` of V[:m] (points of A, witnesses W), within rounding of the ray, and
-    H(normal, h_n) supports A with (t_upper - t) <= eps t."""
+    H(normal, h_n) supports A with (t_upper - t) <= eps t.
+
+    corner: the ray runs along the boundary of CO(A) (ZC stalled, or its cone reproduced b_k
+    only to ~1e-8: graspforce._shooters.zc_from), so z_A(r) is a corner whose normals form a
+    cone of more than one ray, the KKT system is singular, and the given normal (ZC's, nearly
+    orthogonal to r) is a poor certificate. Every step is then a basic solution by complete
+    pivoting, moved within the null space so that u (u^T r = 1) stays shortest: the normal
+    that bounds t best. (Two contacts, wrenches on the edge of what they resist: the plain
+    steps finish some two-point-contact cases of tests/test_grasp_forces.py, the corner steps
+    the others, and three-term corners where the plain steps fail.)"""
     n = r.shape[0]
     ws = Wt.shape[1]
     nn = ints[0]
@@ -211,6 +261,8 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
     rhs = np.empty(N)
     dx = np.empty(N)
     jw = np.empty(size)
+    mats = np.empty((3, N, N) if corner else (3, 0, 0))
+    vecs = np.empty((3, N) if corner else (3, 0))
     u = np.empty(n)
     point = np.empty(n)
     wit = np.empty(ws)
@@ -336,7 +388,7 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t):
             converged = False
             continue
         if not _solve_kkt(r, u, t, tau, lm, S, JJ, m, T, y, nf, ny, fpiece, foff, fq, sm, K, lu,
-                          prow, pcol, rhs, dx):
+                          prow, pcol, rhs, dx, corner, mats, vecs):
             return _failed(t, np.inf, 0.0, steps, calls, nrm, S, lm, WS)
         steps += 1
         du = 0.0

@@ -66,6 +66,35 @@ def _keep(P, Wt, lam, k, Pz, Wz, lz, changed=-1):
     return k
 
 
+@borrowing
+def _holds(P, lam, k, t, r, b, tol):
+    """Whether the weights lam[:k] of the rows P[:k] reproduce t r (written to b) to tol
+    relative, or to the sum's own rounding, 1e-14 sum_j lam_j ||P_j|| (about 50 unit roundoffs;
+    it matters where the origin is near A's boundary and t r is far shorter than the points
+    that make it: the paper's sphere at lambda = 1e-5). The point on the ray is then in A to
+    that accuracy. Relative, unlike `reproduce`'s floor: A's units do not matter."""
+    for i in range(r.shape[0]):
+        b[i] = t * r[i]
+    res, bb = residual2(P, lam, k, b)
+    if res <= tol * tol * bb:
+        return True
+    mass = 0.0
+    for j in range(k):
+        pp = 0.0
+        for i in range(P.shape[1]):
+            pp += P[j, i] * P[j, i]
+        mass += abs(lam[j]) * np.sqrt(pp)
+    return res <= 1e-28 * mass * mass
+
+
+# _holds: an IE step's facet weights, whose drift a fresh LU removes when they miss this
+FACET_HOLDS = 1e-12
+# _holds: ZC's and Bi-GJK's final point, which nothing re-solves: the issue's bound on the
+# equilibrium residual (a rounding floor of ~3e-10 is seen on the paper's sphere at
+# lambda = 1e-6; ZC's loose INSIDE answers reproduce b_k to ~1e-8)
+POINT_HOLDS = 1e-9
+
+
 @njit(cache=True)
 def _miss(ints, floats, r, ws, eps, iters, calls, max_iter):
     """A miss with its certificate: ZC from the origin finds n with h_A(n) < 0 < n^T r; or, when
@@ -488,10 +517,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                             break
                         for j in range(n):
                             lam[j] = gam[j] * tz
-                            b[j] = tz * r[j]
-                        # relative, unlike `reproduce`'s floor: A's units do not matter
-                        res, bb = residual2(P, lam, n, b)
-                        if res <= 1e-24 * bb:
+                        if _holds(P, lam, n, tz, r, b, FACET_HOLDS):
                             kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
                             return _result(HIT, tz, h / nr, h, it, calls, nvec, Pz, lz, Wz, kz,
                                            singular)
@@ -517,7 +543,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     # (graspforce._newton), the new support point a candidate piece
                     set_row(P, Wt, n, point, wit)
                     lam[n] = 0.0
-                    fin = newton_finish(ints, floats, r, eps, P, Wt, lam, n + 1, nvec, t)
+                    fin = newton_finish(ints, floats, r, eps, P, Wt, lam, n + 1, nvec, t, False)
                     it += fin[5]
                     calls += fin[6]
                     if fin[0]:
@@ -577,13 +603,29 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
         # converged (or stalled): z = b_k, supported by H(n, s_A(n)). A stall certifies
         # nothing by itself: ZC's cone from b_k also loses rank far from z_A(r), on rays near
         # the boundary of a set whose origin is on its boundary (two contacts' wrench set, which
-        # is never force-closure: gaps up to 2% were reported as hits). Then the bracket stands,
-        # with the status of an unfinished shot.
+        # is never force-closure: gaps up to 2% were reported as hits). Nor does b_k always lie
+        # in A: on a ray along the boundary of CO(A), ZC's INSIDE rule for a cone that lost
+        # orthogonality accepts weights that reproduce b_k only to ~1e-8 (two point contacts,
+        # wrenches on the edge of what they resist: answers 5e-8 below the true minimum were
+        # reported optimal). Newton on the simplex's pieces then finishes the shot exactly
+        # where it can (the two-point-contact case); else the bracket stands, with the status
+        # of an unfinished shot. Newton's plain steps first: its corner steps (complete
+        # pivoting, the shortest normal) lose some two-point-contact cases the plain ones finish.
         h_n = h + t * dot(nvec, r)
         t_up = h_n / dot(nvec, r)
-        certified = st == CONVERGED or t_up - t <= max(eps, STALL_FLOOR) * t
-        return _result(HIT if certified else LIMIT, t, t_up, h_n, it, calls, nvec, Pz, lz, Wz,
-                       kz, singular)
+        if ((st == CONVERGED or t_up - t <= max(eps, STALL_FLOOR) * t)
+                and _holds(Pz, lz, kz, t, r, b, POINT_HOLDS)):
+            return _result(HIT, t, t_up, h_n, it, calls, nvec, Pz, lz, Wz, kz, singular)
+        for corner in (False, True):
+            fin = newton_finish(ints, floats, r, eps, Pz, Wz, lz, kz, nvec, t, corner)
+            it += fin[5]
+            calls += fin[6]
+            if fin[0]:
+                return _result(HIT, fin[1], fin[2], fin[3], it, calls, fin[7], fin[8], fin[9],
+                               fin[10], fin[4], singular)
+        # t r need not be in A here: an estimate, never above the certified bound
+        return _result(LIMIT, min(t, t_up), t_up, h_n, it, calls, nvec, Pz, lz, Wz, kz,
+                       singular)
     return _result(LIMIT, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz, singular)
 
 
@@ -685,11 +727,16 @@ def bi_gjk_from(ints, floats, r, ws, eps, max_iter, t_lo, P, Wt, lam, k, u, call
     t_hi = best_h / un
     t_up = t_hi
     for it in range(max_iter):
-        if t_up - t_lo <= eps * t_lo:
+        if t_up - t_lo <= eps * t_lo and _holds(Pz, lz, kz, t_lo, r, point, POINT_HOLDS):
             # a table's t_lo = 1 / sum(gam) can exceed t_up by an ulp or two where the ray
             # leaves A exactly at a vertex of the table's facet
             return _result(HIT, min(t_lo, t_up), t_up, best_h, it + 1, calls, best_n, Pz, lz,
                            Wz, kz, 0)
+        if t_up - t_lo <= eps * t_lo:
+            # ZC's first point reproduced only to ~1e-8 (a ray along the boundary of CO(A):
+            # zc_from's end), which zc_from's finish settles
+            return _finish_inside(ints, floats, r, ws, eps, max_iter, t_lo, Pz, Wz, lz, kz,
+                                  it + 1, calls)
         if t_hi - t_lo <= 1e-3 * eps * t_lo:
             # the bracket closed on points GJK could not certify: its numerical floor
             return _finish_inside(ints, floats, r, ws, eps, max_iter, t_lo, Pz, Wz, lz, kz,

@@ -135,7 +135,7 @@ def _finish(A, r, loose):
     res = gf.ray_shoot(A, r, method="ie", eps=loose)
     c = np.ascontiguousarray
     out = newton_finish(*A.program, c(r, float), 1e-9, c(res.vertices), c(res.witness_rows),
-                        c(res.weights), len(res.weights), c(res.normal), res.t)
+                        c(res.weights), len(res.weights), c(res.normal), res.t, False)
     return out
 
 
