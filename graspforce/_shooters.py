@@ -323,6 +323,11 @@ def _pivot(B, n, alpha, js, y, gam):
                 B[i, j] -= f * B[js, j]
 
 
+# zc_from gives up after this many ZC steps in a row that find b_k inside ZC's cone without
+# moving it: a corner its steps never leave (W_Linf's lift of two point contacts at the edge of
+# what they resist went on to max_iter, 10000 steps, t unchanged after the 23rd). Not 1: giving
+# up at the first such step failed a doubled contact 1e-9 inside its cone's edge (Linf) once
+IDLE_STEPS = 100
 NEGLIGIBLE = 1e-6   # _restart: a relative weight this small leaves b on the face of the others
 
 
@@ -433,6 +438,7 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
     changed = -1
     fresh_only = False
     newton_gap = NEWTON_GAP if mode == WITH_NEWTON else -1.0
+    idle = 0          # ZC steps in a row that left b_k where it was
     while it < max_iter:
         if use_ie and k == n:
             # IE step on the facet CH(V), columns a_l: hyperplane y^T x = 1, r = sum gam_l a_l.
@@ -585,6 +591,9 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
         it += 1
         if st == INSIDE:
             sigma = lam[:k].sum()
+            idle = idle + 1 if t + 1.0 / sigma == t else 0
+            if idle == IDLE_STEPS:
+                break
             t += 1.0 / sigma
             for j in range(k):
                 lam[j] /= sigma

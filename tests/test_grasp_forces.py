@@ -503,3 +503,24 @@ def test_answers_on_grasps_that_are_not_closure_certify_or_say_so(norm):
                 open_answers += 1
                 assert not two_points, (trial, res.sigma, truth)
     assert open_answers <= {"L1": 4, "Linf": 3}[norm]
+
+
+def test_corners_that_no_step_leaves_end_early():
+    # Wrenches on the edge of what two contacts resist, drawn as in the test above but with the
+    # weights first: on two of them ZC-IE and IE on W_Linf's lift found b_k inside ZC's cone
+    # again and again without moving it, and went on to max_iter (10000 steps, no upper bound).
+    # Such a shot now stops at once, "max_iter" with its honest (infinite) bracket.
+    rng = np.random.default_rng(5)
+    for trial in range(40):
+        grasp = random_grasp(rng, 2 + trial % 2, kinds=("soft", "point"))
+        sets = grasp.contact_sets()
+        lams = [rng.uniform(0.2, 1.0) for _ in sets]
+        w = -sum(lam * W_i.support(rng.normal(size=6))[1] for lam, W_i in zip(lams, sets))
+        two_points = len(grasp) == 2 and all(c.mu_spin == 0.0 for c in grasp.contacts)
+        for method in ("zc-ie", "ie"):
+            res = grasp.min_force(w, norm="Linf", method=method)
+            assert res.status in ("optimal", "max_iter") and res.iterations < 1000
+            if two_points:
+                assert res.sigma_lower <= max(lams) * (1 + 2e-9)
+                if res.status == "optimal":
+                    assert res.sigma == pytest.approx(max(lams), rel=2e-9)
