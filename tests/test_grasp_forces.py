@@ -509,7 +509,8 @@ def test_corners_that_no_step_leaves_end_early():
     # Wrenches on the edge of what two contacts resist, drawn as in the test above but with the
     # weights first: on two of them ZC-IE and IE on W_Linf's lift found b_k inside ZC's cone
     # again and again without moving it, and went on to max_iter (10000 steps, no upper bound).
-    # Such a shot now stops at once, "max_iter" with its honest (infinite) bracket.
+    # Such a shot now stops after 100 idle steps (graspforce._shooters.IDLE_STEPS): "max_iter"
+    # with its honest (infinite) bracket.
     rng = np.random.default_rng(5)
     for trial in range(40):
         grasp = random_grasp(rng, 2 + trial % 2, kinds=("soft", "point"))
