@@ -358,3 +358,22 @@ def solve_basic(M, n, lu, prow, pcol, b, x, tol=1e-13):
             s -= lu[i, j] * x[pcol[j]]
         x[pcol[i]] = s / lu[i, i]
     return rank
+
+
+@borrowing
+def basic_null_space(lu, pcol, n, rank, Z, w):
+    """The columns Z[:n, :n - rank] spanning the null space of the matrix that `solve_basic`
+    factored into lu, pcol with this rank: Q [-U11^-1 U12; I] of its complete-pivoting factors.
+    w (n) is scratch."""
+    for e in range(n - rank):
+        col = rank + e
+        for i in range(rank - 1, -1, -1):
+            s = lu[i, col]
+            for j in range(i + 1, rank):
+                s -= lu[i, j] * w[j]
+            w[i] = s / lu[i, i]
+        for i in range(n):
+            Z[i, e] = 0.0
+        Z[pcol[col], e] = 1.0
+        for i in range(rank):
+            Z[pcol[i], e] = -w[i]

@@ -32,7 +32,8 @@ from numba import njit
 from ._jit import borrowing
 from ._kernel import ELLIPSOID, HULL, blocks, support
 from ._corral import drop_point, reproduce
-from ._linalg import dot, lstsq, lu_factor, lu_solve, smallest, solve_basic
+from ._linalg import (basic_null_space, dot, lstsq, lu_factor, lu_solve, smallest,
+                      solve_basic)
 from ._piece import (FLAT, KINK, TRUNCATED_CONE, flat_columns, flat_radius2, jacobian_size,
                      local_size, piece_support, same_piece)
 
@@ -91,24 +92,12 @@ def _mark_flat(ints, f, PW, p, leaf, x):
 @borrowing
 def _shortest_u(u, n, N, rank, lu, pcol, dx, mats, vecs):
     """Move the basic solution dx of a rank-deficient system (`solve_basic`'s factors in lu,
-    pcol) within the system's null space so that u + du is shortest. The null space is spanned
-    by the columns Q [-U11^-1 U12; I] of the complete-pivoting factors. mats (3, N, N) and
+    pcol) within the system's null space so that u + du is shortest. mats (3, N, N) and
     vecs (3, N) are scratch."""
     Z, D, work = mats[0], mats[1], mats[2]
     x, rhs, wrhs = vecs[0], vecs[1], vecs[2]
     q = N - rank
-    for e in range(q):
-        col = rank + e
-        for i in range(rank - 1, -1, -1):
-            s = lu[i, col]
-            for j in range(i + 1, rank):
-                s -= lu[i, j] * x[j]
-            x[i] = s / lu[i, i]
-        for i in range(N):
-            Z[i, e] = 0.0
-        Z[pcol[col], e] = 1.0
-        for i in range(rank):
-            Z[pcol[i], e] = -x[i]
+    basic_null_space(lu, pcol, N, rank, Z, x)
     for i in range(n):
         for e in range(q):
             D[i, e] = Z[i, e]

@@ -8,7 +8,7 @@ import pytest
 
 import graspforce as gf
 from graspforce._kernel import support
-from graspforce._linalg import solve_basic
+from graspforce._linalg import basic_null_space, solve_basic
 from graspforce._newton import newton_finish
 from graspforce._piece import (FLAT, flat_columns, jacobian_size, piece_support, same_piece)
 
@@ -128,6 +128,24 @@ def test_solve_basic_solves_consistent_rank_deficient_systems(deficient):
     assert np.linalg.norm(M @ x - b) <= 1e-10 * np.linalg.norm(b)
     if deficient == 0:
         assert np.allclose(x, np.linalg.solve(M, b))
+
+
+@pytest.mark.parametrize("deficient", [1, 3])
+def test_basic_null_space_spans_the_null_space(deficient):
+    # the corner finish moves solve_basic's answer along these columns (graspforce._newton)
+    rng = np.random.default_rng(10 + deficient)
+    n = 9
+    M = rng.normal(size=(n, n))
+    for j in range(deficient):
+        M[:, n - 1 - j] = M[:, :3] @ rng.normal(size=3)
+    lu, pcol = np.empty((n, n)), np.empty(n, np.int64)
+    rank = solve_basic(M.copy(), n, lu, np.empty(n, np.int64), pcol, np.zeros(n), np.empty(n))
+    assert rank == n - deficient
+    Z = np.empty((n, n))
+    basic_null_space(lu, pcol, n, rank, Z, np.empty(n))
+    Z = Z[:, :n - rank]
+    assert np.linalg.matrix_rank(Z) == n - rank
+    assert np.linalg.norm(M @ Z) <= 1e-12 * np.linalg.norm(M) * np.linalg.norm(Z)
 
 
 def _finish(A, r, loose):
