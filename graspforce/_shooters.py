@@ -736,12 +736,12 @@ def bi_gjk_from(ints, floats, r, ws, eps, max_iter, t_lo, P, Wt, lam, k, u, call
     t_hi = best_h / un
     t_up = t_hi
     for it in range(max_iter):
-        if t_up - t_lo <= eps * t_lo and _holds(Pz, lz, kz, t_lo, r, point, POINT_HOLDS):
-            # a table's t_lo = 1 / sum(gam) can exceed t_up by an ulp or two where the ray
-            # leaves A exactly at a vertex of the table's facet
-            return _result(HIT, min(t_lo, t_up), t_up, best_h, it + 1, calls, best_n, Pz, lz,
-                           Wz, kz, 0)
         if t_up - t_lo <= eps * t_lo:
+            if _holds(Pz, lz, kz, t_lo, r, point, POINT_HOLDS):
+                # a table's t_lo = 1 / sum(gam) can exceed t_up by an ulp or two where the ray
+                # leaves A exactly at a vertex of the table's facet
+                return _result(HIT, min(t_lo, t_up), t_up, best_h, it + 1, calls, best_n, Pz,
+                               lz, Wz, kz, 0)
             # ZC's first point reproduced only to ~1e-8 (a ray along the boundary of CO(A):
             # zc_from's end), which zc_from's finish settles
             return _finish_inside(ints, floats, r, ws, eps, max_iter, t_lo, Pz, Wz, lz, kz,
