@@ -458,6 +458,26 @@ def test_grasp_bad_input():
         grasp.quality(norm="L2")
 
 
+def edge_of_cone_cases(count, weights_first):
+    """(trial, grasp, lams, w, two_points) for `count` random two- and three-contact grasps and
+    w = -(sum_i lam_i s_i), s_i a support point of W_i in a random direction, lam_i in
+    [0.2, 1]. The two draw orders give different cases: each contact's weight then direction,
+    or all weights first. two_points: two point contacts, whose minimum is sum(lam) (L1) or
+    max(lam) (Linf) exactly."""
+    rng = np.random.default_rng(5)
+    for trial in range(count):
+        grasp = random_grasp(rng, 2 + trial % 2, kinds=("soft", "point"))
+        sets = grasp.contact_sets()
+        lams = [rng.uniform(0.2, 1.0) for _ in sets] if weights_first else []
+        w = np.zeros(6)
+        for i, W_i in enumerate(sets):
+            if not weights_first:
+                lams.append(rng.uniform(0.2, 1.0))
+            w -= lams[i] * W_i.support(rng.normal(size=6))[1]
+        two_points = len(grasp) == 2 and all(c.mu_spin == 0.0 for c in grasp.contacts)
+        yield trial, grasp, lams, w, two_points
+
+
 @pytest.mark.parametrize("norm", ["L1", "Linf"])
 def test_answers_on_grasps_that_are_not_closure_certify_or_say_so(norm):
     # Two or three contacts with friction, wrenches w = -(sum_i lam_i s_i) with s_i a support
@@ -474,15 +494,8 @@ def test_answers_on_grasps_that_are_not_closure_certify_or_say_so(norm):
     # remains on corners that Newton does not finish (measured with "zc-ie": 4 of 60 wrenches
     # for L1, 3 for Linf, none of them two point contacts; stop 19's note: 10 of 60 for L1).
     from graspforce.baselines import clarabel_socp
-    rng = np.random.default_rng(5)
     open_answers = 0
-    for trial in range(60):
-        grasp = random_grasp(rng, 2 + trial % 2, kinds=("soft", "point"))
-        lams, w = [], np.zeros(6)
-        for W_i in grasp.contact_sets():
-            lams.append(rng.uniform(0.2, 1.0))
-            w -= lams[-1] * W_i.support(rng.normal(size=6))[1]
-        two_points = len(grasp) == 2 and all(c.mu_spin == 0.0 for c in grasp.contacts)
+    for trial, grasp, lams, w, two_points in edge_of_cone_cases(60, weights_first=False):
         if two_points:
             truth, tol = (sum(lams) if norm == "L1" else max(lams)), 2e-9
         else:
@@ -511,13 +524,7 @@ def test_corners_that_no_step_leaves_end_early():
     # again and again without moving it, and went on to max_iter (10000 steps, no upper bound).
     # Such a shot now stops after 100 idle steps (graspforce._shooters.IDLE_STEPS): "max_iter"
     # with its honest (infinite) bracket.
-    rng = np.random.default_rng(5)
-    for trial in range(40):
-        grasp = random_grasp(rng, 2 + trial % 2, kinds=("soft", "point"))
-        sets = grasp.contact_sets()
-        lams = [rng.uniform(0.2, 1.0) for _ in sets]
-        w = -sum(lam * W_i.support(rng.normal(size=6))[1] for lam, W_i in zip(lams, sets))
-        two_points = len(grasp) == 2 and all(c.mu_spin == 0.0 for c in grasp.contacts)
+    for _, grasp, lams, w, two_points in edge_of_cone_cases(40, weights_first=True):
         for method in ("zc-ie", "ie"):
             res = grasp.min_force(w, norm="Linf", method=method)
             assert res.status in ("optimal", "max_iter") and res.iterations < 1000
