@@ -43,10 +43,17 @@ ZC_IE = 4
 ZC_IE_NEWTON = 5
 
 
+# a hit's t_upper = h_A(n) / n^T r below t by at most this (relative) is rounding: the ray left
+# through an exact face of A, whose hyperplane is the facet's own, and the bracket closes at t
+FACE_ROUNDING = 1e-12
+
+
 @njit(cache=True)
 def _result(status, t, t_up, h_n, iters, calls, normal, P, lam, Wt, k, singular):
     # views, not copies: the shooter's arrays die with it, and every caller packs or reads the
     # result before shooting again (four allocations a shot saved)
+    if status == HIT and t * (1.0 - FACE_ROUNDING) <= t_up < t:
+        t_up = t
     return status, t, t_up, h_n, iters, calls, normal, P[:k], lam[:k], Wt[:k], singular
 
 
