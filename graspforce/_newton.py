@@ -347,6 +347,19 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t, corner):
                 changes += 1
                 converged = False
                 continue
+            # a flat point outside its body by rounding (<= 1e-12) goes onto its boundary, so
+            # that the forces read off it lie in their cones to rounding (a soft finger's x
+            # 5e-14 outside its unit ball was a force 5e-14 outside its cone); its piece's
+            # point is evaluated again, the others are as they were
+            for e in range(nf):
+                p = fpiece[e]
+                rho2 = flat_radius2(ints, f, fleaf[e], PW[p])
+                if rho2 > 1.0:
+                    w = ints[WSTART + fleaf[e]]
+                    inv = 1.0 / np.sqrt(rho2)
+                    for b in range(local_size(ints[KIND + fleaf[e]], f, ints[PSTART + fleaf[e]])):
+                        PW[p, w + 1 + b] *= inv
+                    piece_support(ints, f, u, PW[p], S[p], WS[p], JJ[p], jw, nmax)
             tz = _weights_on_ray(S, m, r, lm, K, lu, dx, rhs)
             if tz <= 0.0 or smallest(lm, m) < -1e-12:
                 return _failed(t, np.inf, 0.0, steps, calls, nrm, S, lm, WS)
