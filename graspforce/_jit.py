@@ -17,8 +17,8 @@ arrays its caller keeps alive, and returns scalars. Everything that allocates, o
 
 `borrowing` functions also compile with two of LLVM's fast-math flags, `reassoc` and `contract`:
 sums may be reordered (which lets LLVM vectorize the short reductions of the support kernel, the
-IE step and the factorizations; the gain is that, `contract` alone gave none) and a product and a
-sum may fuse into one FMA. That changes results by rounding only: every stopping rule, residual
+IE step and the factorizations; the speed comes from this flag: `contract` alone gained nothing)
+and a product and a sum may fuse into one FMA. That changes results by rounding only: every stopping rule, residual
 test and certificate is already written against rounding. The flags that change meaning are left
 off: `nnan` and `ninf` (NaN and infinity are tested for: a kink's NaN, a hull's -inf, `x != x`
 checks), `nsz` (a signed zero decides a cone cap's test), `arcp` and `afn` (approximate division
