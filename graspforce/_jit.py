@@ -16,15 +16,16 @@ arrays its caller keeps alive, and returns scalars. Everything that allocates, o
 (the shooters' result records), is compiled with `njit(cache=True)` as usual.
 
 `borrowing` functions also compile with two of LLVM's fast-math flags, `reassoc` and `contract`:
-sums may be reordered (which lets LLVM vectorize the short reductions of the support kernel, the
-IE step and the factorizations; the speed comes from this flag: `contract` alone gained nothing)
-and a product and a sum may fuse into one FMA. That changes results by rounding only: every stopping rule, residual
-test and certificate is already written against rounding. The flags that change meaning are left
-off: `nnan` and `ninf` (NaN and infinity are tested for: a kink's NaN, a hull's -inf, `x != x`
-checks), `nsz` (a signed zero decides a cone cap's test), `arcp` and `afn` (approximate division
-and functions). Measured with benchmarks/ab.py: min_force L1 0.946 and 0.942, ray_shoot 0.956 and
-0.962 (two runs); Linf and growth distance unchanged (BENCHMARKS.md, "Stop 21"). Compiled
-functions that use exact rounding on purpose (zc_from's `t + 1 / sigma == t`) are not borrowing.
+sums may be reordered (which lets LLVM vectorize the short reductions of the support kernel, the IE
+step and the factorizations; the speed comes from this flag: `contract` alone gained nothing) and a
+product and a sum may fuse into one FMA. That changes results by rounding only: every stopping
+rule, residual test and certificate is already written against rounding. The flags that change
+meaning are left off: `nnan` and `ninf` (NaN and infinity are tested for: a kink's NaN, a hull's
+-inf, `x != x` checks), `nsz` (a signed zero decides a cone cap's test), `arcp` and `afn`
+(approximate division and functions). Measured with benchmarks/ab.py: min_force L1 0.946 and 0.942,
+ray_shoot 0.956 and 0.962 (two runs); Linf and growth distance unchanged (BENCHMARKS.md, "Stop
+21"). Compiled functions that use exact rounding on purpose (zc_from's `t + 1 / sigma == t`) are
+not borrowing.
 """
 from numba import njit
 
