@@ -18,7 +18,8 @@ active, children] (each block nn long but `children`); `floats` = [params, scrat
     dstart[i]    offset of its direction in `scratch`: its parent's, unless the parent is affine
                  (an embedding's child: the last entries of its parent's)
     ostart[i]    offset of its point and value in `scratch`
-    choice[i], active[i]   work arrays: a hull's best child, whether node i produced the point
+    choice[i], active[i]   work arrays: a hull's best child (an origin embedding's child, or -1
+                 for its origin), whether node i produced the point
 """
 import numpy as np
 from numba import njit
@@ -36,6 +37,8 @@ AFFINE = 12    # params: m, n, M (m*n), t (m)
 EMBED = 13     # params: m, n, span, t (m): x -> (0, x) + t, an affine map whose M is [0; I]
                # (k = m - n zero rows): its child reads the last n entries of its direction in
                # place; t is zero after its first `span` entries (the lift's t = (e_i - c, 0))
+ORIGIN_EMBED = 14  # params as EMBED: the embedding of CH({0} U child), h = t^T u + max(0, h_c);
+                   # witness: the origin's slot [active, 0] (sets._origin_hull)
 
 
 # the blocks of `ints` after nn, in order (`blocks` gives their offsets to compiled code)
@@ -351,6 +354,13 @@ def support(ints, f, u, point, wit):
                 span = int(f[p0 + 2])
             di = ints[DSTART + i]
             h = f[ints[OSTART + ch] + nc]
+            if k == ORIGIN_EMBED:
+                # the origin wins a tie, as the first child of the hull it stands for
+                if h > 0.0:
+                    ints[CHOICE + i] = ch
+                else:
+                    h = 0.0
+                    ints[CHOICE + i] = -1
             for a in range(span):
                 h += f[t0 + a] * f[di + a]
         f[oi + ni] = h
@@ -360,6 +370,13 @@ def support(ints, f, u, point, wit):
         k = ints[KIND + i]
         if k < HULL:
             wit[ints[WSTART + i]] = ints[ACTIVE + i]
+            continue
+        if k == ORIGIN_EMBED:
+            origin = ints[ACTIVE + i] if ints[CHOICE + i] < 0 else 0
+            w = ints[WSTART + i]
+            wit[w] = origin
+            wit[w + 1] = 0.0
+            ints[ACTIVE + ints[CHILDREN + ints[CSTART + i]]] = ints[ACTIVE + i] - origin
             continue
         for c in range(ints[CCOUNT + i]):
             ch = ints[CHILDREN + ints[CSTART + i] + c]
@@ -389,12 +406,16 @@ def support(ints, f, u, point, wit):
             oc = ints[OSTART + ch]
             nc = ints[DIM + ch]
             p0 = ints[PSTART + i]
-            if k == EMBED:
+            if k == EMBED or k == ORIGIN_EMBED:
                 lead = ni - nc
                 for a in range(lead):
                     f[oi + a] = f[p0 + 3 + a]
-                for a in range(nc):
-                    f[oi + lead + a] = f[oc + a] + f[p0 + 3 + lead + a]
+                if ints[CHOICE + i] < 0 and k == ORIGIN_EMBED:
+                    for a in range(nc):
+                        f[oi + lead + a] = f[p0 + 3 + lead + a]
+                else:
+                    for a in range(nc):
+                        f[oi + lead + a] = f[oc + a] + f[p0 + 3 + lead + a]
             elif ni == 3 and nc == 3:
                 _affine_3_3_push(f, p0 + 2, oc, oi)
             else:

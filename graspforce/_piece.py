@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 from ._jit import borrowing
-from ._kernel import (AFFINE, BOX, CONE_CAP, ELLIPSOID, EMBED, HULL, POLYTOPE, SUM,
+from ._kernel import (AFFINE, BOX, CONE_CAP, ELLIPSOID, EMBED, HULL, ORIGIN_EMBED, POLYTOPE, SUM,
                       _affine_pull, _cone_cap_support, blocks, cap_direction)
 
 KINK_TOL = 1e-9   # ||S^T u|| <= KINK_TOL ||S|| ||u||: the piece's support is not smooth there
@@ -59,6 +59,11 @@ def same_piece(ints, wa, wb):
         blocks(nn)
     for i in range(nn):
         k = ints[KIND + i]
+        if k == ORIGIN_EMBED:
+            w = ints[WSTART + i]
+            if (wa[w] != 0.0) != (wb[w] != 0.0):
+                return False
+            continue
         if k >= HULL:
             continue
         w = ints[WSTART + i]
@@ -284,7 +289,7 @@ def flat_columns(ints, f, leaf, T, off, C, C2):
                 for b in range(q):
                     C[a, b] = C2[a, b]
             rows = m
-        elif ints[KIND + parent] == EMBED:
+        elif ints[KIND + parent] == EMBED or ints[KIND + parent] == ORIGIN_EMBED:
             # x -> (0, x) + t: L gains the embedding's leading zero rows
             m = ints[DIM + parent]
             lead = m - rows
@@ -345,10 +350,18 @@ def piece_support(ints, f, u, pw, point, wit, J, jw, nmax):
             if ints[ACTIVE + ch] != 0:
                 act = 1
                 ints[CHOICE + i] = ch
+        if k == ORIGIN_EMBED and pw[ints[WSTART + i]] != 0.0:
+            act = 1
+            ints[CHOICE + i] = -1
         ints[ACTIVE + i] = act
     for i in range(nn):
-        if ints[KIND + i] < HULL:
+        k = ints[KIND + i]
+        if k < HULL:
             wit[ints[WSTART + i]] = ints[ACTIVE + i]
+        elif k == ORIGIN_EMBED:
+            w = ints[WSTART + i]
+            wit[w] = 1.0 if ints[ACTIVE + i] != 0 and ints[CHOICE + i] < 0 else 0.0
+            wit[w + 1] = 0.0
     n0 = ints[DIM]
     d0 = ints[DSTART]
     for a in range(n0):
@@ -427,20 +440,22 @@ def piece_support(ints, f, u, pw, point, wit, J, jw, nmax):
                     f[oi + a] += f[oc + a]
                 for a in range(ni * ni):
                     jw[j0 + a] += jw[ch * nsq + a]
-        elif k == EMBED:
-            # x -> (0, x) + t: s = (0, s_c) + t, h = h_c + t^T u, J = [[0, 0], [0, J_c]]
+        elif k == EMBED or k == ORIGIN_EMBED:
+            # x -> (0, x) + t: s = (0, s_c) + t, h = h_c + t^T u, J = [[0, 0], [0, J_c]]; an
+            # origin embedding's origin: s = t, h = t^T u, J = 0
             ch = ints[CHILDREN + ints[CSTART + i]]
             oc = ints[OSTART + ch]
             nc = ints[DIM + ch]
             lead = ni - nc
-            h = f[oc + nc]
+            child = k == EMBED or ints[CHOICE + i] >= 0
+            h = f[oc + nc] if child else 0.0
             for a in range(ni):
-                f[oi + a] = f[p + 3 + a] + (f[oc + a - lead] if a >= lead else 0.0)
+                f[oi + a] = f[p + 3 + a] + (f[oc + a - lead] if a >= lead and child else 0.0)
                 h += f[p + 3 + a] * f[di + a]
             for a in range(ni):
                 for a2 in range(ni):
                     jw[j0 + a * ni + a2] = (jw[ch * nsq + (a - lead) * nc + a2 - lead]
-                                            if a >= lead and a2 >= lead else 0.0)
+                                            if a >= lead and a2 >= lead and child else 0.0)
         else:
             # x -> M x + t: s = M s_c + t, h = h_c + t^T u, J = M J_c M^T
             ch = ints[CHILDREN + ints[CSTART + i]]

@@ -44,10 +44,9 @@ NORMS = ("L1", "Linf")
 MAGNITUDES = ("normal", "full")
 
 
-def contact_set(contact, magnitude, lift=()):
+def contact_set(contact, magnitude):
     """(W_i, base, local_map): the wrench set of one contact and how its leaf's witness maps to a
-    unit contact force, f = base + local_map @ local; with `lift` e (k entries), {e} x W_i in
-    R^(k + 6) instead (an embedding: the kernel evaluates W_i in R^6 and prepends e)."""
+    unit contact force, f = base + local_map @ local."""
     if magnitude == "normal":
         # the ellipse's axes: only the friction components this contact has
         axes = [(1, contact.mu), (2, contact.mu)] if contact.mu > 0.0 else []
@@ -67,11 +66,16 @@ def contact_set(contact, magnitude, lift=()):
             local_map[3, 3] = contact.mu_spin / contact.mu       # D^{-1}
         base = np.zeros(4)
         W_i = affine(contact.matrix @ local_map, ConeCap(contact.mu, size))
-    e = np.asarray(lift, dtype=float)
-    if e.shape[0]:
-        W_i = affine(np.vstack((np.zeros((e.shape[0], 6)), np.eye(6))), W_i,
-                     np.concatenate((e, np.zeros(6))))
     return W_i, base, local_map
+
+
+def lift_summand(W_i, e):
+    """{e} x CH({0} U W_i) in R^(k + 6), e with k entries: an embedding that the kernel evaluates
+    as one node (`_kernel.ORIGIN_EMBED`: h_{W_i} in R^6, the origin where it is <= 0, e
+    prepended)."""
+    k = e.shape[0]
+    return affine(np.vstack((np.zeros((k, 6)), np.eye(6))), hull(Polytope(np.zeros((1, 6))), W_i),
+                  np.concatenate((e, np.zeros(6))))
 
 
 def lift_rows(m):
@@ -161,19 +165,16 @@ class WrenchSpace:
         target = self._targets.get(lifted)
         if target is None:
             m = len(self._contacts)
-            lift = lift_rows(m) if lifted else np.zeros((m, 0))
+            lift = lift_rows(m) if lifted else None
             maps = {}
             parts = []
             for i, contact in enumerate(self._contacts):
-                W_i, base, local_map = contact_set(contact, self.magnitude, lift[i])
+                W_i, base, local_map = contact_set(contact, self.magnitude)
                 for leaf in W_i.leaves():
                     maps[id(leaf)] = (i, base, local_map)
-                parts.append(W_i)
+                parts.append(lift_summand(W_i, lift[i]) if lifted else W_i)
             linf = self.norm == "Linf"
-            if lifted:
-                # the m origins in one polytope
-                shot_set = hull(Polytope(np.hstack((lift, np.zeros((m, 6))))), *parts)
-            elif linf:
+            if linf and not lifted:
                 shot_set = minkowski_sum(*[hull(Polytope(np.zeros((1, 6))), W_i)
                                            for W_i in parts])
             else:

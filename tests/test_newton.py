@@ -33,6 +33,12 @@ def _sets(rng):
                           rng.normal(size=8)),
                 gf.affine(np.vstack((np.zeros((2, 6)), np.eye(6))),
                           gf.affine(rng.normal(size=(6, 4)), gf.ConeCap(0.5, 4)))),
+        # the lift's summands {e} x CH({0} U W_i) (one ORIGIN_EMBED node each), W_i off the
+        # origin: directions choose an origin or an ellipsoid
+        gf.hull(*[gf.affine(np.vstack((np.zeros((1, 6)), np.eye(6))),
+                            gf.hull(gf.Polytope(np.zeros((1, 6))),
+                                    gf.Ellipsoid(rng.normal(size=6), rng.normal(size=(6, 3)))),
+                            np.r_[e, np.zeros(6)]) for e in (-0.5, 0.5)]),
     ]
 
 
@@ -45,7 +51,7 @@ def _piece(A, u, pw):
     return h, point, wit, J
 
 
-@pytest.mark.parametrize("which", range(6))
+@pytest.mark.parametrize("which", range(7))
 def test_piece_support_is_the_support_and_its_jacobian_the_derivative(which):
     rng = np.random.default_rng(which)
     A = _sets(rng)[which]

@@ -194,6 +194,16 @@ def operator_cases():
                                                 T.box(np.full(6, 0.1))), t=np.arange(7.0)),
                                 T.affine(np.vstack((np.zeros((4, 3)), np.eye(3))),
                                          T.affine(R, T.tcone(0.3, 0.6, 1.0), t=p))),
+        # [0; I] over CH({0} U X): one kernel node (_kernel.ORIGIN_EMBED); X off the origin, so
+        # that some directions choose the origin and some X
+        "origin_embed": T.affine(np.vstack((np.zeros((2, 3)), np.eye(3))),
+                                 T.hull(T.poly(np.zeros((1, 3))), T.ell(c3 + 2.0, S3)),
+                                 t=[1.0, -2.0, 0.0, 0.0, 0.0]),
+        "origin_embeds_in_hull": T.hull(*[
+            T.affine(np.vstack((np.zeros((1, 6)), np.eye(6))),
+                     T.hull(T.poly(np.zeros((1, 6))), T.ell(c + 2.0, S)), t=np.r_[e, np.zeros(6)])
+            for e, (c, S) in ((-0.5, random_ellipsoid(rng, 6, 3)),
+                              (0.5, random_ellipsoid(rng, 6, 3)))]),
     }
     return cases
 
@@ -235,6 +245,28 @@ def test_only_strict_embeddings_compile_to_offset_reads():
                          (np.vstack((np.eye(3), np.zeros((2, 3)))), K.AFFINE)):
         ints, _ = gf.affine(matrix, inner).program
         assert ints[1] == kind
+
+
+def test_embedded_origin_hulls_compile_to_one_node():
+    # an embedding of CH({0} U X) written hull(Polytope([[0, ..]]), X) is one ORIGIN_EMBED node
+    # over X; the origin keeps its witness slot. An origin elsewhere, or second, is not fused
+    from graspforce import _kernel as K
+    X = gf.Ball(np.full(3, 2.0), 1.0)
+    M = np.vstack((np.zeros((2, 3)), np.eye(3)))
+    fused = gf.affine(M, gf.hull(gf.Polytope(np.zeros((1, 3))), X))
+    ints, _ = fused.program
+    assert ints[0] == 2 and list(ints[1:3]) == [K.ORIGIN_EMBED, K.ELLIPSOID]
+    assert fused.witness_size == 2 + 4
+    # directions that choose the origin, then X: the witness names the origin, then the ball
+    h, point, witness = fused.support_witness(np.array([0.0, 0.0, -1.0, -1.0, -1.0]))
+    assert h == 0.0 and not point.any() and witness == ((0, 0),)
+    h, point, witness = fused.support_witness(np.array([0.0, 0.0, 1.0, 1.0, 1.0]))
+    assert witness[0][0] == 1 and h == pytest.approx(6.0 + np.sqrt(3.0), rel=1e-15)
+    for origin in (np.ones((1, 3)), np.zeros((2, 3))):
+        ints, _ = gf.affine(M, gf.hull(gf.Polytope(origin), X)).program
+        assert ints[1] == K.EMBED
+    ints, _ = gf.affine(M, gf.hull(X, gf.Polytope(np.zeros((1, 3))))).program
+    assert ints[1] == K.EMBED
 
 
 def test_neg_and_pose_identities():
