@@ -308,6 +308,15 @@ def _matvec_t_ones(B, n, out):
 
 
 @borrowing(forceinline=True)
+def _same_point(P, j, x):
+    """Whether row j of P is x, exactly."""
+    for i in range(x.shape[0]):
+        if P[j, i] != x[i]:
+            return False
+    return True
+
+
+@borrowing(forceinline=True)
 def _pivot(B, n, alpha, js, y, gam):
     """Column js of the facet replaced by s, with B s = alpha (Sherman-Morrison, as in the
     revised simplex method): row js of the new inverse is B[js] / alpha_js, and every other
@@ -489,8 +498,10 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
             else:
                 t = 1.0 / yr
                 ny = np.sqrt(dot(y, y))
+                # one division, not n: the direction needs to be y's only to rounding
+                iny = 1.0 / ny
                 for i in range(n):
-                    nvec[i] = y[i] / ny
+                    nvec[i] = y[i] * iny
                 h = support(ints, floats, nvec, point, wit)
                 calls += 1
                 it += 1
@@ -569,14 +580,28 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
                     lu_solve(lu, piv, n, point, alpha)
                 else:
                     _matvec(B, n, point, alpha)
-                js = 0
-                best = np.inf
+                # the least gam_j / alpha_j over alpha_j > 0, compared as products: no division
+                js = -1
                 amax = 0.0
                 for j in range(n):
                     amax = max(amax, abs(alpha[j]))
-                    if alpha[j] > 0.0 and gam[j] / alpha[j] < best:
-                        best = gam[j] / alpha[j]
+                    if alpha[j] > 0.0 and (js < 0 or gam[j] * alpha[js] < gam[js] * alpha[j]):
                         js = j
+                js = max(js, 0)
+                if _same_point(P, js, point):
+                    # s is the vertex it would replace: the step cannot move, and the gap was
+                    # the updated inverse's drift (a vertex lies on its facet). Fresh factors,
+                    # then LU solves; s a vertex even then is rounding at this eps: the bracket
+                    # stands (before, the step repeated itself until max_iter: a full-magnitude
+                    # lift at eps = 3e-12, BENCHMARKS.md "Stop 22")
+                    if fresh_only:
+                        return _result(LIMIT, t, h * ny / yr, h, it, calls, nvec, Pz, lz, Wz,
+                                       kz, singular)
+                    if age > 0:
+                        age = -1
+                    else:
+                        fresh_only = True
+                    continue
                 set_row(P, Wt, js, point, wit)
                 changed = js
                 if not fresh_only and alpha[js] > 1e-8 * amax:
