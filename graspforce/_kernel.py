@@ -213,6 +213,8 @@ def _affine_of(fixed_m, fixed_n):
 # the poses of 3-D bodies (growth distance) unroll
 _affine_pull, _affine_push = _affine_of(None, None)
 _affine_3_3_pull, _affine_3_3_push = _affine_of(3, 3)
+# the full-magnitude contact wrench sets G_i D U_i of soft fingers (eq. 15)
+_affine_6_4_pull, _affine_6_4_push = _affine_of(6, 4)
 
 
 @njit(cache=True, inline='always')
@@ -318,6 +320,8 @@ def support(ints, f, u, point, wit):
         nc = ints[DIM + ch]
         if ni == 3 and nc == 3:
             _affine_3_3_pull(f, p0 + 2, di, dc)
+        elif ni == 6 and nc == 4:
+            _affine_6_4_pull(f, p0 + 2, di, dc)
         else:
             _affine_pull(f, p0 + 2, di, dc, ni, nc)
     # values flow up: h of every node; a hull keeps its best child
@@ -418,6 +422,8 @@ def support(ints, f, u, point, wit):
                         f[oi + lead + a] = f[oc + a] + f[p0 + 3 + lead + a]
             elif ni == 3 and nc == 3:
                 _affine_3_3_push(f, p0 + 2, oc, oi)
+            elif ni == 6 and nc == 4:
+                _affine_6_4_push(f, p0 + 2, oc, oi)
             else:
                 _affine_push(f, p0 + 2, oc, oi, ni, nc)
     o0 = ints[OSTART]

@@ -204,6 +204,13 @@ def operator_cases():
                      T.hull(T.poly(np.zeros((1, 6))), T.ell(c + 2.0, S)), t=np.r_[e, np.zeros(6)])
             for e, (c, S) in ((-0.5, random_ellipsoid(rng, 6, 3)),
                               (0.5, random_ellipsoid(rng, 6, 3)))]),
+        # 6 x 4: the unrolled product of soft fingers' full-magnitude wrench sets G_i D U_i (6 x 3,
+        # point contacts', takes the general loop)
+        "affine_6x4": T.affine(rng.standard_normal((6, 4)), T.ell(c4, S4), t=np.arange(6.0)),
+        "affine_6x3_in_hull": T.hull(
+            T.affine(rng.standard_normal((6, 3)), T.hull(T.poly(V3), T.ell(c3, S3))),
+            T.affine(rng.standard_normal((6, 4)), T.poly(rng.standard_normal((5, 4))),
+                     t=-np.arange(6.0))),
     }
     return cases
 
