@@ -464,264 +464,301 @@ def zc_family(ints, floats, r, ws, eps, max_iter, mode):
                    np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0, np.empty((0, 0)))
 
 
-@njit(cache=True)
-def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls, inverse):
-    """ZC-based iterations from b = t r in A, the convex combination lz of Pz[:kz] (t = 0,
-    kz = 0: from the origin, which first decides whether the ray meets A; kz = n with WITH_IE: a
-    facet the ray crosses, where IE steps start). mode: ZC_ONLY
-    (section 3.3), WITH_IE (ZC-IE, section 3.4.2: plain IE steps while V_k is a facet),
-    WITH_NEWTON (ZC-IE with the Newton finish) or UNTIL_FACET (return FACET with V_k as soon as
-    it is a facet: IE's initialization). inverse: [Pz_0 .. Pz_{n-1}]^{-1} when it is known (a
-    start table's facet, graspforce._start_table), else a 0 x 0 array."""
-    use_ie = mode == WITH_IE or mode == WITH_NEWTON
-    singular = 0
-    n = r.shape[0]
-    P = np.empty((n + 2, n))
-    Wt = np.empty((n + 2, ws))
-    lam = np.empty(n + 2)
-    _keep(Pz, Wz, lz, kz, P, Wt, lam)     # element loops, not slices (`_keep`)
-    sc = scratch(n)
-    if use_ie and kz == n:
-        k = kz            # a warm-start facet (graspforce._warm): IE steps from it at once
-    else:
-        k = _restart(P, Wt, lam, kz, r, sc) if kz > 0 else 0
-    # the n-vectors and n x n matrices as rows of two allocations: a shot of a few
-    # microseconds felt each of its ~40 allocations (~25 ns each)
-    vectors = np.empty((8, n))
-    nvec, v, point, ones, y, gam, alpha, b = (vectors[0], vectors[1], vectors[2], vectors[3],
-                                              vectors[4], vectors[5], vectors[6], vectors[7])
-    ones[:] = 1.0
-    matrices = np.empty((3, n, n))
-    M, lu, B = matrices[0], matrices[1], matrices[2]
-    wit = np.empty(ws)
-    piv = np.empty(n, np.int64)
-    age = -1
-    if use_ie and kz == n and inverse.shape[0] == n:
-        # the table's inverse of its facet: IE's first step factors nothing
-        for i in range(n):
-            for j in range(n):
-                B[i, j] = inverse[i, j]
-        _matvec_t_ones(B, n, y)
-        _matvec(B, r, gam, n)
-        age = 0
-    # the row of P that the last IE step replaced since Pz last held the facet (-1: unknown)
-    changed = -1
-    fresh_only = False
-    newton_gap = NEWTON_GAP if mode == WITH_NEWTON else -1.0
-    idle = 0          # ZC steps in a row that left b_k where it was
-    while it < max_iter:
-        if use_ie and k == n:
-            # IE step on the facet CH(V), columns a_l: hyperplane y^T x = 1, r = sum gam_l a_l.
-            # y and gam come from B, the facet's inverse, refactored every REFACTOR steps and
-            # updated in between by the revised simplex method's pivot rule (O(n^2) a step).
-            if fresh_only:
-                # LU solves only, no inverse: y, gam here, alpha below
-                ok = _solve_facet(P, n, r, M, lu, piv, ones, y, gam)
-            elif age < 0 or age >= REFACTOR:
-                ok = _invert(P, n, M, piv, B)
-                age = 0
-                if ok:
-                    _matvec_t_ones(B, n, y)
-                    _matvec(B, r, gam, n)
-            else:
-                ok = True         # y and gam came with the last pivot
-            if ok:
-                yr = dot(y, r)
-                ok = yr > 0.0 and smallest(gam, n) >= -1e-12 * yr
-            if not ok and age > 0:
-                age = -1          # perhaps only drift in the updated inverse: refactor first
-                continue
-            if not ok:
-                # rounding broke the facet: return to the last simplex known to hold b_k
-                _keep(Pz, Wz, lz, kz, P, Wt, lam)
-                k = _restart(P, Wt, lam, kz, r, sc)
-            elif smallest(gam, n) <= 1e-12 * yr:
-                # the ray crosses a lower-dimensional face of the facet: keep that face and
-                # continue with ZC-based iterations (section 3.4.2)
-                t = 1.0 / yr
+def _zc_from_of(fixed_n):
+    """`zc_from` compiled for one dimension n (every loop over n in it and in the helpers it
+    inlines then has a constant bound, which LLVM unrolls) or, when fixed_n is None, for any (n
+    then passed last)."""
+    @njit(cache=True)
+    def zc_from_n(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls, inverse,
+                  n=fixed_n):
+        """ZC-based iterations from b = t r in A, the convex combination lz of Pz[:kz] (t = 0,
+        kz = 0: from the origin, which first decides whether the ray meets A; kz = n with WITH_IE: a
+        facet the ray crosses, where IE steps start). mode: ZC_ONLY
+        (section 3.3), WITH_IE (ZC-IE, section 3.4.2: plain IE steps while V_k is a facet),
+        WITH_NEWTON (ZC-IE with the Newton finish) or UNTIL_FACET (return FACET with V_k as soon as
+        it is a facet: IE's initialization). inverse: [Pz_0 .. Pz_{n-1}]^{-1} when it is known (a
+        start table's facet, graspforce._start_table), else a 0 x 0 array."""
+        use_ie = mode == WITH_IE or mode == WITH_NEWTON
+        singular = 0
+        P = np.empty((n + 2, n))
+        Wt = np.empty((n + 2, ws))
+        lam = np.empty(n + 2)
+        _keep(Pz, Wz, lz, kz, P, Wt, lam)     # element loops, not slices (`_keep`)
+        sc = scratch(n)
+        if use_ie and kz == n:
+            k = kz            # a warm-start facet (graspforce._warm): IE steps from it at once
+        else:
+            k = _restart(P, Wt, lam, kz, r, sc) if kz > 0 else 0
+        # the n-vectors and n x n matrices as rows of two allocations: a shot of a few
+        # microseconds felt each of its ~40 allocations (~25 ns each)
+        vectors = np.empty((8, n))
+        nvec, v, point, ones, y, gam, alpha, b = (vectors[0], vectors[1], vectors[2], vectors[3],
+                                                  vectors[4], vectors[5], vectors[6], vectors[7])
+        ones[:] = 1.0
+        matrices = np.empty((3, n, n))
+        M, lu, B = matrices[0], matrices[1], matrices[2]
+        wit = np.empty(ws)
+        piv = np.empty(n, np.int64)
+        age = -1
+        if use_ie and kz == n and inverse.shape[0] == n:
+            # the table's inverse of its facet: IE's first step factors nothing
+            for i in range(n):
                 for j in range(n):
-                    lam[j] = max(gam[j], 0.0) * t
-                kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
-                j = n - 1
-                while j >= 0:
-                    if lam[j] <= 1e-12:
-                        k = drop_point(P, Wt, lam, k, j)
-                    j -= 1
-                k = _restart(P, Wt, lam, k, r, sc)
-                singular += 1
-            else:
-                t = 1.0 / yr
-                ny = np.sqrt(dot(y, y))
-                # one division, not n: the direction needs to be y's only to rounding
-                iny = 1.0 / ny
-                for i in range(n):
-                    nvec[i] = y[i] * iny
-                h = support(ints, floats, nvec, point, wit)
-                calls += 1
-                it += 1
-                if h - 1.0 / ny <= eps * (1.0 / ny) and fresh_only:
-                    for j in range(n):
-                        lam[j] = gam[j] * t
-                    kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
-                    return _result(HIT, t, h * ny / yr, h, it, calls, nvec, Pz, lz, Wz, kz,
-                                   singular)
-                if h - 1.0 / ny <= eps * (1.0 / ny):
-                    # certify: the normal and h_A(n) already evaluated bound t from above
-                    # whatever n is; from below, t r must be the convex combination gam / sum(gam)
-                    # of the facet's points, checked by its residual (the updated inverse's
-                    # drift shows there). Failing that, LU solves on a fresh factorization.
-                    nr = dot(nvec, r)
-                    for refine in range(2):
-                        if refine == 1:
-                            # one step of iterative refinement with the updated inverse:
-                            # gam += B (r - sum_j gam_j P_j), ~3 n^2 flops where the LU
-                            # below costs ~n^3 / 3 + 4 n^2 (taken on 66% of W_Linf's lift's
-                            # shots on the ingot, 24% of W_L1's)
-                            for i in range(n):
-                                e = r[i]
-                                for j in range(n):
-                                    e -= gam[j] * P[j, i]
-                                alpha[i] = e
-                            _matvec(B, alpha, v, n)
-                            for j in range(n):
-                                gam[j] += v[j]
-                        gsum = 0.0
-                        for j in range(n):
-                            gsum += gam[j]
-                        if not (gsum > 0.0 and smallest(gam, n) >= 0.0):
-                            break
-                        tz = 1.0 / gsum
-                        if h / nr - tz > eps * tz:
-                            break
-                        for j in range(n):
-                            lam[j] = gam[j] * tz
-                        if _holds(P, lam, n, tz, r, b, FACET_HOLDS):
-                            kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
-                            return _result(HIT, tz, h / nr, h, it, calls, nvec, Pz, lz, Wz, kz,
-                                           singular)
+                    B[i, j] = inverse[i, j]
+            _matvec_t_ones(B, n, y)
+            _matvec(B, r, gam, n)
+            age = 0
+        # the row of P that the last IE step replaced since Pz last held the facet (-1: unknown)
+        changed = -1
+        fresh_only = False
+        newton_gap = NEWTON_GAP if mode == WITH_NEWTON else -1.0
+        idle = 0          # ZC steps in a row that left b_k where it was
+        while it < max_iter:
+            if use_ie and k == n:
+                # IE step on the facet CH(V), columns a_l: hyperplane y^T x = 1, r = sum gam_l a_l.
+                # y and gam come from B, the facet's inverse, refactored every REFACTOR steps and
+                # updated in between by the revised simplex method's pivot rule (O(n^2) a step).
+                if fresh_only:
+                    # LU solves only, no inverse: y, gam here, alpha below
                     ok = _solve_facet(P, n, r, M, lu, piv, ones, y, gam)
+                elif age < 0 or age >= REFACTOR:
+                    ok = _invert(P, n, M, piv, B)
+                    age = 0
+                    if ok:
+                        _matvec_t_ones(B, n, y)
+                        _matvec(B, r, gam, n)
+                else:
+                    ok = True         # y and gam came with the last pivot
+                if ok:
                     yr = dot(y, r)
-                    if (ok and yr > 0.0 and smallest(gam, n) >= 0.0
-                            and h / nr - 1.0 / yr <= eps / yr):
-                        t = 1.0 / yr
+                    ok = yr > 0.0 and smallest(gam, n) >= -1e-12 * yr
+                if not ok and age > 0:
+                    age = -1          # perhaps only drift in the updated inverse: refactor first
+                    continue
+                if not ok:
+                    # rounding broke the facet: return to the last simplex known to hold b_k
+                    _keep(Pz, Wz, lz, kz, P, Wt, lam)
+                    k = _restart(P, Wt, lam, kz, r, sc)
+                elif smallest(gam, n) <= 1e-12 * yr:
+                    # the ray crosses a lower-dimensional face of the facet: keep that face and
+                    # continue with ZC-based iterations (section 3.4.2)
+                    t = 1.0 / yr
+                    for j in range(n):
+                        lam[j] = max(gam[j], 0.0) * t
+                    kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
+                    j = n - 1
+                    while j >= 0:
+                        if lam[j] <= 1e-12:
+                            k = drop_point(P, Wt, lam, k, j)
+                        j -= 1
+                    k = _restart(P, Wt, lam, k, r, sc)
+                    singular += 1
+                else:
+                    t = 1.0 / yr
+                    ny = np.sqrt(dot(y, y))
+                    # one division, not n: the direction needs to be y's only to rounding
+                    iny = 1.0 / ny
+                    for i in range(n):
+                        nvec[i] = y[i] * iny
+                    h = support(ints, floats, nvec, point, wit)
+                    calls += 1
+                    it += 1
+                    if h - 1.0 / ny <= eps * (1.0 / ny) and fresh_only:
                         for j in range(n):
                             lam[j] = gam[j] * t
                         kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
-                        return _result(HIT, t, h / nr, h, it, calls, nvec, Pz, lz, Wz, kz,
+                        return _result(HIT, t, h * ny / yr, h, it, calls, nvec, Pz, lz, Wz, kz,
                                        singular)
-                    # the updated inverse's drift matters at this eps: from here on, LU
-                    # solves at every step (the floor of docs/core-api.md, "Numerical floor")
-                    fresh_only = True
-                    continue
-                for j in range(n):
-                    lam[j] = gam[j] * t
-                gap = h * ny - 1.0
-                if gap <= newton_gap:
-                    # IE's cutting planes have found the exit face's pieces: Newton on them
-                    # (graspforce._newton), the new support point a candidate piece
-                    set_row(P, Wt, n, point, wit)
-                    lam[n] = 0.0
-                    fin = newton_finish(ints, floats, r, eps, P, Wt, lam, n + 1, nvec, t, False)
-                    it += fin[5]
-                    calls += fin[6]
-                    if fin[0]:
-                        return _result(HIT, fin[1], fin[2], fin[3], it, calls, fin[7], fin[8],
-                                       fin[9], fin[10], fin[4], singular)
-                    newton_gap = gap * NEWTON_RETRY
-                kz = _keep(P, Wt, lam, n, Pz, Wz, lz, changed)
-                # ratio test: the new facet the ray crosses replaces the vertex j*
-                if fresh_only:
-                    lu_solve(lu, piv, n, point, alpha)
-                else:
-                    _column(B, n, point, alpha)
-                # the least gam_j / alpha_j over alpha_j > 0, compared as products: no division
-                js = -1
-                amax = 0.0
-                for j in range(n):
-                    amax = max(amax, abs(alpha[j]))
-                    if alpha[j] > 0.0 and (js < 0 or gam[j] * alpha[js] < gam[js] * alpha[j]):
-                        js = j
-                js = max(js, 0)
-                if _same_point(P, js, point):
-                    # s is the vertex it would replace: the step cannot move, and the gap was
-                    # the updated inverse's drift (a vertex lies on its facet). Fresh factors,
-                    # then LU solves; s a vertex even then is rounding at this eps: the bracket
-                    # stands (before, the step repeated itself until max_iter: a full-magnitude
-                    # lift at eps = 3e-12, BENCHMARKS.md "Stop 22")
-                    if fresh_only:
-                        return _result(LIMIT, t, h * ny / yr, h, it, calls, nvec, Pz, lz, Wz,
-                                       kz, singular)
-                    if age > 0:
-                        age = -1
-                    else:
+                    if h - 1.0 / ny <= eps * (1.0 / ny):
+                        # certify: the normal and h_A(n) already evaluated bound t from above
+                        # whatever n is; from below, t r must be the convex combination gam / sum(gam)
+                        # of the facet's points, checked by its residual (the updated inverse's
+                        # drift shows there). Failing that, LU solves on a fresh factorization.
+                        nr = dot(nvec, r)
+                        for refine in range(2):
+                            if refine == 1:
+                                # one step of iterative refinement with the updated inverse:
+                                # gam += B (r - sum_j gam_j P_j), ~3 n^2 flops where the LU
+                                # below costs ~n^3 / 3 + 4 n^2 (taken on 66% of W_Linf's lift's
+                                # shots on the ingot, 24% of W_L1's)
+                                for i in range(n):
+                                    e = r[i]
+                                    for j in range(n):
+                                        e -= gam[j] * P[j, i]
+                                    alpha[i] = e
+                                _matvec(B, alpha, v, n)
+                                for j in range(n):
+                                    gam[j] += v[j]
+                            gsum = 0.0
+                            for j in range(n):
+                                gsum += gam[j]
+                            if not (gsum > 0.0 and smallest(gam, n) >= 0.0):
+                                break
+                            tz = 1.0 / gsum
+                            if h / nr - tz > eps * tz:
+                                break
+                            for j in range(n):
+                                lam[j] = gam[j] * tz
+                            if _holds(P, lam, n, tz, r, b, FACET_HOLDS):
+                                kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
+                                return _result(HIT, tz, h / nr, h, it, calls, nvec, Pz, lz, Wz, kz,
+                                               singular)
+                        ok = _solve_facet(P, n, r, M, lu, piv, ones, y, gam)
+                        yr = dot(y, r)
+                        if (ok and yr > 0.0 and smallest(gam, n) >= 0.0
+                                and h / nr - 1.0 / yr <= eps / yr):
+                            t = 1.0 / yr
+                            for j in range(n):
+                                lam[j] = gam[j] * t
+                            kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
+                            return _result(HIT, t, h / nr, h, it, calls, nvec, Pz, lz, Wz, kz,
+                                           singular)
+                        # the updated inverse's drift matters at this eps: from here on, LU
+                        # solves at every step (the floor of docs/core-api.md, "Numerical floor")
                         fresh_only = True
+                        continue
+                    for j in range(n):
+                        lam[j] = gam[j] * t
+                    gap = h * ny - 1.0
+                    if gap <= newton_gap:
+                        # IE's cutting planes have found the exit face's pieces: Newton on them
+                        # (graspforce._newton), the new support point a candidate piece
+                        set_row(P, Wt, n, point, wit)
+                        lam[n] = 0.0
+                        fin = newton_finish(ints, floats, r, eps, P, Wt, lam, n + 1, nvec, t, False)
+                        it += fin[5]
+                        calls += fin[6]
+                        if fin[0]:
+                            return _result(HIT, fin[1], fin[2], fin[3], it, calls, fin[7], fin[8],
+                                           fin[9], fin[10], fin[4], singular)
+                        newton_gap = gap * NEWTON_RETRY
+                    kz = _keep(P, Wt, lam, n, Pz, Wz, lz, changed)
+                    # ratio test: the new facet the ray crosses replaces the vertex j*
+                    if fresh_only:
+                        lu_solve(lu, piv, n, point, alpha)
+                    else:
+                        _column(B, n, point, alpha)
+                    # the least gam_j / alpha_j over alpha_j > 0, compared as products: no division
+                    js = -1
+                    amax = 0.0
+                    for j in range(n):
+                        amax = max(amax, abs(alpha[j]))
+                        if alpha[j] > 0.0 and (js < 0 or gam[j] * alpha[js] < gam[js] * alpha[j]):
+                            js = j
+                    js = max(js, 0)
+                    if _same_point(P, js, point):
+                        # s is the vertex it would replace: the step cannot move, and the gap was
+                        # the updated inverse's drift (a vertex lies on its facet). Fresh factors,
+                        # then LU solves; s a vertex even then is rounding at this eps: the bracket
+                        # stands (before, the step repeated itself until max_iter: a full-magnitude
+                        # lift at eps = 3e-12, BENCHMARKS.md "Stop 22")
+                        if fresh_only:
+                            return _result(LIMIT, t, h * ny / yr, h, it, calls, nvec, Pz, lz, Wz,
+                                           kz, singular)
+                        if age > 0:
+                            age = -1
+                        else:
+                            fresh_only = True
+                        continue
+                    set_row(P, Wt, js, point, wit)
+                    changed = js
+                    if not fresh_only and alpha[js] > 1e-8 * amax:
+                        _pivot(B, n, alpha, js, y, gam)
+                        age += 1
+                    else:
+                        age = -1
                     continue
-                set_row(P, Wt, js, point, wit)
-                changed = js
-                if not fresh_only and alpha[js] > 1e-8 * amax:
-                    _pivot(B, n, alpha, js, y, gam)
-                    age += 1
-                else:
-                    age = -1
-                continue
-        age = -1
-        changed = -1
-        st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter,
-                                           nvec, v, point, wit, b, sc)
-        calls += zcalls
-        if st == STALLED and t > 0.0:
-            # rounding in the warm-started generators: start ZC afresh from b_k once
-            st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, 0, eps,
-                                               max_iter, nvec, v, point, wit, b, sc)
+            age = -1
+            changed = -1
+            st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter,
+                                               nvec, v, point, wit, b, sc)
             calls += zcalls
-        it += 1
-        if st == INSIDE:
-            sigma = lam[:k].sum()
-            idle = idle + 1 if t + 1.0 / sigma == t else 0
-            if idle == IDLE_STEPS:
+            if st == STALLED and t > 0.0:
+                # rounding in the warm-started generators: start ZC afresh from b_k once
+                st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, 0, eps,
+                                                   max_iter, nvec, v, point, wit, b, sc)
+                calls += zcalls
+            it += 1
+            if st == INSIDE:
+                sigma = lam[:k].sum()
+                idle = idle + 1 if t + 1.0 / sigma == t else 0
+                if idle == IDLE_STEPS:
+                    break
+                t += 1.0 / sigma
+                for j in range(k):
+                    lam[j] /= sigma
+                kz = _keep(P, Wt, lam, k, Pz, Wz, lz)
+                if mode == UNTIL_FACET and k == n:
+                    return _result(FACET, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz, 0)
+                if not (use_ie and k == n):
+                    k = _restart(P, Wt, lam, k, r, sc)
+                continue
+            if st == MAX_ITER:
                 break
-            t += 1.0 / sigma
-            for j in range(k):
-                lam[j] /= sigma
-            kz = _keep(P, Wt, lam, k, Pz, Wz, lz)
-            if mode == UNTIL_FACET and k == n:
-                return _result(FACET, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz, 0)
-            if not (use_ie and k == n):
-                k = _restart(P, Wt, lam, k, r, sc)
-            continue
-        if st == MAX_ITER:
-            break
-        if t == 0.0:
-            # CONVERGED here means h_A(n) <= 0 < n^T r: a certified miss. STALLED means r lies
-            # on the boundary of CO(A) to rounding: the ray at most grazes A, reported a miss.
-            return _result(MISS, 0.0, 0.0, h, it, calls, nvec, P, lam, Wt, 0, 0)
-        # converged (or stalled): z = b_k, supported by H(n, s_A(n)). A stall certifies
-        # nothing by itself: ZC's cone from b_k also loses rank far from z_A(r), on rays near
-        # the boundary of a set whose origin is on its boundary (two contacts' wrench set, which
-        # is never force-closure: gaps up to 2% were reported as hits). Nor does b_k always lie
-        # in A: on a ray along the boundary of CO(A), ZC's INSIDE rule for a cone that lost
-        # orthogonality accepts weights that reproduce b_k only to ~1e-8 (two point contacts,
-        # wrenches on the edge of what they resist: answers 5e-8 below the true minimum were
-        # reported optimal). Newton on the simplex's pieces then finishes the shot exactly
-        # where it can (the two-point-contact case); else the bracket stands, with the status
-        # of an unfinished shot. Newton's plain steps first: its corner steps (complete
-        # pivoting, the shortest normal) lose some two-point-contact cases the plain ones finish.
-        h_n = h + t * dot(nvec, r)
-        t_up = h_n / dot(nvec, r)
-        if ((st == CONVERGED or t_up - t <= max(eps, STALL_FLOOR) * t)
-                and _holds(Pz, lz, kz, t, r, b, POINT_HOLDS)):
-            return _result(HIT, t, t_up, h_n, it, calls, nvec, Pz, lz, Wz, kz, singular)
-        for corner in (False, True):
-            fin = newton_finish(ints, floats, r, eps, Pz, Wz, lz, kz, nvec, t, corner)
-            it += fin[5]
-            calls += fin[6]
-            if fin[0]:
-                return _result(HIT, fin[1], fin[2], fin[3], it, calls, fin[7], fin[8], fin[9],
-                               fin[10], fin[4], singular)
-        # t r need not be in A here: an estimate, never above the certified bound
-        return _result(LIMIT, min(t, t_up), t_up, h_n, it, calls, nvec, Pz, lz, Wz, kz,
-                       singular)
-    return _result(LIMIT, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz, singular)
+            if t == 0.0:
+                # CONVERGED here means h_A(n) <= 0 < n^T r: a certified miss. STALLED means r lies
+                # on the boundary of CO(A) to rounding: the ray at most grazes A, reported a miss.
+                return _result(MISS, 0.0, 0.0, h, it, calls, nvec, P, lam, Wt, 0, 0)
+            # converged (or stalled): z = b_k, supported by H(n, s_A(n)). A stall certifies
+            # nothing by itself: ZC's cone from b_k also loses rank far from z_A(r), on rays near
+            # the boundary of a set whose origin is on its boundary (two contacts' wrench set, which
+            # is never force-closure: gaps up to 2% were reported as hits). Nor does b_k always lie
+            # in A: on a ray along the boundary of CO(A), ZC's INSIDE rule for a cone that lost
+            # orthogonality accepts weights that reproduce b_k only to ~1e-8 (two point contacts,
+            # wrenches on the edge of what they resist: answers 5e-8 below the true minimum were
+            # reported optimal). Newton on the simplex's pieces then finishes the shot exactly
+            # where it can (the two-point-contact case); else the bracket stands, with the status
+            # of an unfinished shot. Newton's plain steps first: its corner steps (complete
+            # pivoting, the shortest normal) lose some two-point-contact cases the plain ones finish.
+            h_n = h + t * dot(nvec, r)
+            t_up = h_n / dot(nvec, r)
+            if ((st == CONVERGED or t_up - t <= max(eps, STALL_FLOOR) * t)
+                    and _holds(Pz, lz, kz, t, r, b, POINT_HOLDS)):
+                return _result(HIT, t, t_up, h_n, it, calls, nvec, Pz, lz, Wz, kz, singular)
+            for corner in (False, True):
+                fin = newton_finish(ints, floats, r, eps, Pz, Wz, lz, kz, nvec, t, corner)
+                it += fin[5]
+                calls += fin[6]
+                if fin[0]:
+                    return _result(HIT, fin[1], fin[2], fin[3], it, calls, fin[7], fin[8], fin[9],
+                                   fin[10], fin[4], singular)
+            # t r need not be in A here: an estimate, never above the certified bound
+            return _result(LIMIT, min(t, t_up), t_up, h_n, it, calls, nvec, Pz, lz, Wz, kz,
+                           singular)
+        return _result(LIMIT, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz, singular)
+    return zc_from_n
+
+
+# ZC-IE in the dimensions the goals' calls shoot in, compiled for each: 3-D bodies (growth
+# distance), wrenches (W_L1) and W_Linf's lift for four contacts (R^9). Each costs zc_from's
+# compile time again; other dimensions take the general one, whose IE step still unrolls
+# (_column, _pivot). ab.py against the general one alone: BENCHMARKS.md, "Stop 24"
+_zc_from_any = _zc_from_of(None)
+_zc_from_3 = _zc_from_of(3)
+_zc_from_6 = _zc_from_of(6)
+_zc_from_9 = _zc_from_of(9)
+
+
+@njit(cache=True)
+def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls, inverse):
+    """ZC-based iterations and ZC-IE from a simplex (`_zc_from_of`'s docstring), by the
+    version compiled for r's dimension."""
+    n = r.shape[0]
+    # callers pass constants (the mode, zero counts), which Numba types as literals and would
+    # compile every version for again (nine signatures: the test suite's compile time 383 ->
+    # 963 s); a sum is a plain int64
+    mode_, kz_, it_, calls_ = mode + 0, kz + 0, it + 0, calls + 0
+    if n == 6:
+        return _zc_from_6(ints, floats, r, ws, eps, max_iter, mode_, t, Pz, Wz, lz, kz_, it_,
+                          calls_, inverse)
+    if n == 3:
+        return _zc_from_3(ints, floats, r, ws, eps, max_iter, mode_, t, Pz, Wz, lz, kz_, it_,
+                          calls_, inverse)
+    if n == 9:
+        return _zc_from_9(ints, floats, r, ws, eps, max_iter, mode_, t, Pz, Wz, lz, kz_, it_,
+                          calls_, inverse)
+    return _zc_from_any(ints, floats, r, ws, eps, max_iter, mode_, t, Pz, Wz, lz, kz_, it_,
+                        calls_, inverse, n)
 
 
 @borrowing

@@ -1,11 +1,14 @@
 """The shooters' step helpers against closed forms and numpy: ZC-based's warm start (which point
-leaves V_k) and Bi-GJK's exit from a simplex proved to hold a point of the ray."""
+leaves V_k), Bi-GJK's exit from a simplex proved to hold a point of the ray, and IE's update of
+its facet's inverse in the dimensions it is unrolled for."""
 import numpy as np
 import pytest
 from scipy.optimize import nnls
 
+import graspforce as gf
 from graspforce._distance import scratch
-from graspforce._shooters import _restart, _simplex_exit
+from graspforce._shooters import (HIT, WITH_IE, _column, _pivot, _restart, _simplex_exit,
+                                  _zc_from_3, _zc_from_6, _zc_from_9, _zc_from_any)
 
 
 def on_ray_simplex(rng, n, k, r):
@@ -89,3 +92,55 @@ def test_simplex_exit_is_where_a_barycentric_weight_reaches_zero(n):
         assert np.allclose(lam[:k] @ P[:k], t * r, atol=1e-12 * (1 + np.abs(t * r).max()))
         assert np.isclose(lam[:k].sum(), 1.0) and lam[:k].min() >= 0.0
         assert np.array_equal(P[:k], P0[rows])
+
+
+@pytest.mark.parametrize("n", [3, 5, 6, 7, 8, 9, 10, 12])
+def test_pivot_keeps_the_facet_inverse(n):
+    """IE's revised-simplex step, unrolled for n in 3, 6-10 and general otherwise: after column js
+    of the facet is replaced by s (alpha = B s from `_column`), B, y = B^T 1 and gam = B r equal
+    numpy's inverse of the new facet matrix and its solves."""
+    rng = np.random.default_rng(n)
+    P = rng.standard_normal((n, n)) + 3.0 * np.eye(n)     # the facet's points as rows
+    r = rng.standard_normal(n)
+    B = np.linalg.inv(P.T)
+    y = B.T @ np.ones(n)
+    gam = B @ r
+    for _ in range(8):
+        s = rng.standard_normal(n) + 3.0 * np.eye(n)[rng.integers(n)]
+        alpha = np.empty(n)
+        _column(B, n, s, alpha)
+        np.testing.assert_allclose(alpha, np.linalg.solve(P.T, s), rtol=1e-10, atol=1e-12)
+        js = int(np.argmax(np.abs(alpha)))
+        _pivot(B, n, alpha, js, y, gam)
+        P[js] = s
+        inverse = np.linalg.inv(P.T)
+        np.testing.assert_allclose(B, inverse, rtol=1e-9, atol=1e-11)
+        np.testing.assert_allclose(y, inverse.T @ np.ones(n), rtol=1e-9, atol=1e-11)
+        np.testing.assert_allclose(gam, inverse @ r, rtol=1e-9, atol=1e-11)
+
+
+@pytest.mark.parametrize("n, version", [(3, _zc_from_3), (6, _zc_from_6), (9, _zc_from_9)])
+def test_zc_ie_compiled_for_its_dimension_agrees_with_the_general_version(n, version):
+    """The versions of zc_from compiled for n = 3, 6, 9 shoot as the general one does: both
+    certify t* to eps on the same rays (a sum of an ellipsoid and a polytope, curved and flat
+    faces, the origin inside), and their brackets overlap."""
+    rng = np.random.default_rng(n)
+    L = rng.standard_normal((n, n)) + 2.0 * np.eye(n)
+    V = rng.standard_normal((3 * n, n))
+    A = gf.minkowski_sum(gf.Ellipsoid(np.zeros(n), L @ L.T + np.eye(n)),
+                         gf.Polytope(V - V.mean(axis=0)))      # the origin inside
+    ints, floats = A.program
+    ws = A.witness_size
+    eps = 1e-9
+    for _ in range(20):
+        r = rng.standard_normal(n)
+        shots = []
+        for args in ((), (n,)):
+            shoot = version if not args else _zc_from_any
+            out = shoot(ints, floats, r, ws, eps, 10000, WITH_IE, 0.0, np.empty((n + 2, n)),
+                        np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0, np.empty((0, 0)), *args)
+            assert out[0] == HIT
+            assert out[2] - out[1] <= eps * out[1]
+            shots.append((out[1], out[2]))
+        (t_a, up_a), (t_b, up_b) = shots
+        assert t_a <= up_b * (1.0 + 1e-12) and t_b <= up_a * (1.0 + 1e-12)
