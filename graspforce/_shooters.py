@@ -289,6 +289,15 @@ def _invert(P, n, M, piv, B):
 
 
 @borrowing(forceinline=True)
+def _matvec(B, n, x, out):
+    for i in range(n):
+        s = 0.0
+        for j in range(n):
+            s += B[i, j] * x[j]
+        out[i] = s
+
+
+@borrowing(forceinline=True)
 def _matvec_t_ones(B, n, out):
     """out = B^T 1: the facet's hyperplane y^T x = 1."""
     for j in range(n):
@@ -307,90 +316,28 @@ def _same_point(P, j, x):
     return True
 
 
-def _facet_ops_of(fixed_n):
-    """(matvec, pivot) on an n x n facet inverse B, compiled for the given n (loops LLVM unrolls)
-    or, when it is None, for any (n then passed last)."""
-    @borrowing(forceinline=True)
-    def matvec(B, x, out, n=fixed_n):
-        for i in range(n):
-            s = 0.0
-            for j in range(n):
-                s += B[i, j] * x[j]
-            out[i] = s
-
-    @borrowing(forceinline=True)
-    def pivot(B, alpha, js, y, gam, n=fixed_n):
-        """Column js of the facet replaced by s, with B s = alpha (Sherman-Morrison, as in the
-        revised simplex method): row js of the new inverse is B[js] / alpha_js, and every other
-        row i loses alpha_i times it. y = B^T 1 and gam = B r follow in O(n): gam like a column
-        of B, and y gains (1 - sum alpha) times the new row js (the column sums of the row
-        operations)."""
-        inv = 1.0 / alpha[js]
-        asum = 0.0
-        for i in range(n):
-            asum += alpha[i]
-        for j in range(n):
-            B[js, j] *= inv
-            y[j] += (1.0 - asum) * B[js, j]
-        gam[js] *= inv
-        for i in range(n):
-            if i != js:
-                f = alpha[i]
-                gam[i] -= f * gam[js]
-                for j in range(n):
-                    B[i, j] -= f * B[js, j]
-    return matvec, pivot
-
-
-# IE's step in the dimensions it runs in most, unrolled: 3-D bodies (growth distance), wrenches
-# (W_L1, W_Linf) and W_Linf's lift in R^(m + 5) for 2 to 5 contacts. Every IE step takes a
-# matvec and a pivot (2 n^2 flops); with n a runtime bound LLVM leaves them as short loops:
-# min_force L1 -5%, Linf (the lift, n = 9) -7%, growth -2.5% (BENCHMARKS.md, "Stop 24")
-_matvec, _pivot_any = _facet_ops_of(None)
-_matvec_3, _pivot_3 = _facet_ops_of(3)
-_matvec_6, _pivot_6 = _facet_ops_of(6)
-_matvec_7, _pivot_7 = _facet_ops_of(7)
-_matvec_8, _pivot_8 = _facet_ops_of(8)
-_matvec_9, _pivot_9 = _facet_ops_of(9)
-_matvec_10, _pivot_10 = _facet_ops_of(10)
-
-
-@borrowing(forceinline=True)
-def _column(B, n, s, alpha):
-    """alpha = B s: the new support point s in the facet's coordinates (IE's ratio test)."""
-    if n == 6:
-        _matvec_6(B, s, alpha)
-    elif n == 3:
-        _matvec_3(B, s, alpha)
-    elif n == 9:
-        _matvec_9(B, s, alpha)
-    elif n == 7:
-        _matvec_7(B, s, alpha)
-    elif n == 8:
-        _matvec_8(B, s, alpha)
-    elif n == 10:
-        _matvec_10(B, s, alpha)
-    else:
-        _matvec(B, s, alpha, n)
-
-
 @borrowing(forceinline=True)
 def _pivot(B, n, alpha, js, y, gam):
-    """B, y, gam after column js of the facet is replaced by s, B s = alpha (pivot above)."""
-    if n == 6:
-        _pivot_6(B, alpha, js, y, gam)
-    elif n == 3:
-        _pivot_3(B, alpha, js, y, gam)
-    elif n == 9:
-        _pivot_9(B, alpha, js, y, gam)
-    elif n == 7:
-        _pivot_7(B, alpha, js, y, gam)
-    elif n == 8:
-        _pivot_8(B, alpha, js, y, gam)
-    elif n == 10:
-        _pivot_10(B, alpha, js, y, gam)
-    else:
-        _pivot_any(B, alpha, js, y, gam, n)
+    """Column js of the facet replaced by s, with B s = alpha (Sherman-Morrison, as in the
+    revised simplex method): row js of the new inverse is B[js] / alpha_js, and every other
+    row i loses alpha_i times it. y = B^T 1 and gam = B r follow in O(n): gam like a column
+    of B, and y gains (1 - sum alpha) times the new row js (the column sums of the row
+    operations). No test for alpha_i = 0: the loops stay branch-free, which LLVM unrolls in
+    zc_from's versions compiled for one n."""
+    inv = 1.0 / alpha[js]
+    asum = 0.0
+    for i in range(n):
+        asum += alpha[i]
+    for j in range(n):
+        B[js, j] *= inv
+        y[j] += (1.0 - asum) * B[js, j]
+    gam[js] *= inv
+    for i in range(n):
+        if i != js:
+            f = alpha[i]
+            gam[i] -= f * gam[js]
+            for j in range(n):
+                B[i, j] -= f * B[js, j]
 
 
 # zc_from gives up after this many ZC steps in a row that find b_k inside ZC's cone without
@@ -506,7 +453,7 @@ def _zc_from_of(fixed_n):
                 for j in range(n):
                     B[i, j] = inverse[i, j]
             _matvec_t_ones(B, n, y)
-            _matvec(B, r, gam, n)
+            _matvec(B, n, r, gam)
             age = 0
         # the row of P that the last IE step replaced since Pz last held the facet (-1: unknown)
         changed = -1
@@ -526,7 +473,7 @@ def _zc_from_of(fixed_n):
                     age = 0
                     if ok:
                         _matvec_t_ones(B, n, y)
-                        _matvec(B, r, gam, n)
+                        _matvec(B, n, r, gam)
                 else:
                     ok = True         # y and gam came with the last pivot
                 if ok:
@@ -586,7 +533,7 @@ def _zc_from_of(fixed_n):
                                     for j in range(n):
                                         e -= gam[j] * P[j, i]
                                     alpha[i] = e
-                                _matvec(B, alpha, v, n)
+                                _matvec(B, n, alpha, v)
                                 for j in range(n):
                                     gam[j] += v[j]
                             gsum = 0.0
@@ -637,7 +584,7 @@ def _zc_from_of(fixed_n):
                     if fresh_only:
                         lu_solve(lu, piv, n, point, alpha)
                     else:
-                        _column(B, n, point, alpha)
+                        _matvec(B, n, point, alpha)
                     # the least gam_j / alpha_j over alpha_j > 0, compared as products: no division
                     js = -1
                     amax = 0.0
@@ -731,8 +678,8 @@ def _zc_from_of(fixed_n):
 
 # ZC-IE in the dimensions the goals' calls shoot in, compiled for each: 3-D bodies (growth
 # distance), wrenches (W_L1) and W_Linf's lift for four contacts (R^9). Each costs zc_from's
-# compile time again; other dimensions take the general one, whose IE step still unrolls
-# (_column, _pivot). ab.py against the general one alone: BENCHMARKS.md, "Stop 24"
+# compile time again (the test suite after a cache clear: 383 -> 561 s); other dimensions take
+# the general version. ab.py: BENCHMARKS.md, "Stop 24"
 _zc_from_any = _zc_from_of(None)
 _zc_from_3 = _zc_from_of(3)
 _zc_from_6 = _zc_from_of(6)

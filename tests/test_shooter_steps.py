@@ -1,13 +1,13 @@
 """The shooters' step helpers against closed forms and numpy: ZC-based's warm start (which point
 leaves V_k), Bi-GJK's exit from a simplex proved to hold a point of the ray, and IE's update of
-its facet's inverse in the dimensions it is unrolled for."""
+its facet's inverse, and ZC-IE compiled for one dimension against the general version."""
 import numpy as np
 import pytest
 from scipy.optimize import nnls
 
 import graspforce as gf
 from graspforce._distance import scratch
-from graspforce._shooters import (HIT, WITH_IE, _column, _pivot, _restart, _simplex_exit,
+from graspforce._shooters import (HIT, WITH_IE, _matvec, _pivot, _restart, _simplex_exit,
                                   _zc_from_3, _zc_from_6, _zc_from_9, _zc_from_any)
 
 
@@ -94,11 +94,10 @@ def test_simplex_exit_is_where_a_barycentric_weight_reaches_zero(n):
         assert np.array_equal(P[:k], P0[rows])
 
 
-@pytest.mark.parametrize("n", [3, 5, 6, 7, 8, 9, 10, 12])
+@pytest.mark.parametrize("n", [3, 5, 6, 9, 12])
 def test_pivot_keeps_the_facet_inverse(n):
-    """IE's revised-simplex step, unrolled for n in 3, 6-10 and general otherwise: after column js
-    of the facet is replaced by s (alpha = B s from `_column`), B, y = B^T 1 and gam = B r equal
-    numpy's inverse of the new facet matrix and its solves."""
+    """IE's revised-simplex step: after column js of the facet is replaced by s (alpha = B s),
+    B, y = B^T 1 and gam = B r equal numpy's inverse of the new facet matrix and its solves."""
     rng = np.random.default_rng(n)
     P = rng.standard_normal((n, n)) + 3.0 * np.eye(n)     # the facet's points as rows
     r = rng.standard_normal(n)
@@ -108,7 +107,7 @@ def test_pivot_keeps_the_facet_inverse(n):
     for _ in range(8):
         s = rng.standard_normal(n) + 3.0 * np.eye(n)[rng.integers(n)]
         alpha = np.empty(n)
-        _column(B, n, s, alpha)
+        _matvec(B, n, s, alpha)
         np.testing.assert_allclose(alpha, np.linalg.solve(P.T, s), rtol=1e-10, atol=1e-12)
         js = int(np.argmax(np.abs(alpha)))
         _pivot(B, n, alpha, js, y, gam)
