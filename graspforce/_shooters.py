@@ -418,13 +418,7 @@ def _zc_from_of(fixed_n):
     @njit(cache=True)
     def zc_from_n(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls, inverse,
                   n=fixed_n):
-        """ZC-based iterations from b = t r in A, the convex combination lz of Pz[:kz] (t = 0,
-        kz = 0: from the origin, which first decides whether the ray meets A; kz = n with WITH_IE: a
-        facet the ray crosses, where IE steps start). mode: ZC_ONLY
-        (section 3.3), WITH_IE (ZC-IE, section 3.4.2: plain IE steps while V_k is a facet),
-        WITH_NEWTON (ZC-IE with the Newton finish) or UNTIL_FACET (return FACET with V_k as soon as
-        it is a facet: IE's initialization). inverse: [Pz_0 .. Pz_{n-1}]^{-1} when it is known (a
-        start table's facet, graspforce._start_table), else a 0 x 0 array."""
+        """`zc_from` (its docstring), with n = r's dimension fixed or passed."""
         use_ie = mode == WITH_IE or mode == WITH_NEWTON
         singular = 0
         P = np.empty((n + 2, n))
@@ -688,8 +682,14 @@ _zc_from_9 = _zc_from_of(9)
 
 @njit(cache=True)
 def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls, inverse):
-    """ZC-based iterations and ZC-IE from a simplex (`_zc_from_of`'s docstring), by the
-    version compiled for r's dimension."""
+    """ZC-based iterations from b = t r in A, the convex combination lz of Pz[:kz] (t = 0,
+    kz = 0: from the origin, which first decides whether the ray meets A; kz = n with WITH_IE: a
+    facet the ray crosses, where IE steps start). mode: ZC_ONLY
+    (section 3.3), WITH_IE (ZC-IE, section 3.4.2: plain IE steps while V_k is a facet),
+    WITH_NEWTON (ZC-IE with the Newton finish) or UNTIL_FACET (return FACET with V_k as soon as
+    it is a facet: IE's initialization). inverse: [Pz_0 .. Pz_{n-1}]^{-1} when it is known (a
+    start table's facet, graspforce._start_table), else a 0 x 0 array. Runs the version
+    compiled for r's dimension (`_zc_from_of`)."""
     n = r.shape[0]
     # callers pass constants (the mode, zero counts), which Numba types as literals and would
     # compile every version for again (nine signatures: the test suite's compile time 383 ->
