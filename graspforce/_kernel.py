@@ -5,11 +5,13 @@ its children) in flat arrays. `support` evaluates h_A(u) and s_A(u) of eq. (2) f
 four passes: directions flow down the tree (an affine node maps u to M^T u), support values flow
 up (a hull keeps its best child, a sum adds), the leaves that produced the point are flagged in the
 witness vector, and the support point is built up from the flagged nodes only. Every algorithm is
-compiled once against this kernel, whatever the shape.
+compiled once against this kernel, whatever the shape. One program shape takes a loop of its own
+instead of the passes (its `plan`): the soft fingers' wrench sets, shot at on every min_force call.
 
 A program is two arrays, `ints` and `floats`, so that a call from Python unboxes two arrays, not
 twelve. `ints` = [nn, kind, dim, pstart, cstart, ccount, wstart, dstart, ostart, choice,
-active, children] (each block nn long but `children`); `floats` = [params, scratch]. The blocks:
+active, children, plan] (each block nn long but `children` and the one entry `plan`);
+`floats` = [params, scratch]. The blocks:
     kind[i]      node kind (constants below)
     dim[i]       dimension of the node's output space
     pstart[i]    offset of the node's parameters in `params`
@@ -20,6 +22,8 @@ active, children] (each block nn long but `children`); `floats` = [params, scrat
     ostart[i]    offset of its point and value in `scratch`
     choice[i], active[i]   work arrays: a hull's best child (an origin embedding's child, or -1
                  for its origin), whether node i produced the point
+    plan         how `support` evaluates the program (GENERAL or ELLIPSOID_HULL below,
+                 decided by `plan_of` when the set compiles)
 """
 import numpy as np
 from numba import njit
@@ -40,6 +44,15 @@ EMBED = 13     # params: m, n, span, t (m): x -> (0, x) + t, an affine map whose
 ORIGIN_EMBED = 14  # params as EMBED: the embedding of CH({0} U child), h = t^T u + max(0, h_c);
                    # witness: the origin's slot [active, 0] (sets._origin_hull)
 
+
+# plans (the last entry of `ints`): the four passes for any program, or `_ellipsoid_hull`'s loop
+# for a hull of ellipsoids in R^6 with 3 axes (soft fingers' W_i of eq. 14), each bare (W_L1) or
+# under an embedding (W_Linf's lift, graspforce.wrench_space). Point contacts' ellipsoids (2 axes)
+# keep the passes: the loop's rounding, which differs from theirs in the last bits, sent a shot at
+# two point contacts on the edge of what they resist to max_iter (tests/test_grasp_forces.py,
+# the edge-of-cone cases), where the passes' rounding lets the Newton finish close it
+GENERAL = 0
+ELLIPSOID_HULL = 1
 
 # the blocks of `ints` after nn, in order (`blocks` gives their offsets to compiled code)
 BLOCKS = ("kind", "dim", "pstart", "cstart", "ccount", "wstart", "dstart", "ostart", "choice",
@@ -67,6 +80,22 @@ def params_size(ints):
     """Entries of `floats` that hold parameters (Python side); the scratch the kernel writes
     follows them."""
     return int(ints[_block(ints, "dstart")])
+
+
+def plan_of(kind, dim, params_of, child_lists):
+    """The plan of a program (module docstring) from its nodes' kinds, dimensions, parameters
+    (a function of the node) and children (Python side, when the set compiles)."""
+    if kind[0] != HULL:
+        return GENERAL
+    for c in child_lists[0]:
+        leaf = c
+        if kind[c] in (EMBED, ORIGIN_EMBED):
+            leaf = child_lists[c][0]
+        if kind[leaf] != ELLIPSOID or dim[leaf] != 6:
+            return GENERAL
+        if int(params_of(leaf)[1]) != 3:
+            return GENERAL
+    return ELLIPSOID_HULL
 
 
 def children(ints, node):
@@ -294,6 +323,95 @@ def _cone_cap_support(f, p, d, o, wit, w):
 
 
 @borrowing
+def _ellipsoid_hull(ints, f, u, point, wit):
+    """`support` for the plan ELLIPSOID_HULL: every child of the root hull is an ellipsoid
+    {c + S x : ||x|| <= 1} in R^6 with S (6, 3), bare or under an embedding (x -> (0, x) + t;
+    an origin embedding's value is t^T u + max(0, h), the origin winning a tie). One loop over
+    the children with the direction read from u and the best child's S^T u held in registers,
+    then one point: the four passes' value, point and witnesses (the same flags and ties) at
+    107 ns a call on the ingot's W_Linf lift against 183, 88 against 124 on its W_L1
+    (BENCHMARKS.md, "Stop 25"). The passes pay for what a general tree needs: each node's
+    direction, value and point go through the scratch part of `floats`."""
+    nn = ints[0]
+    KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
+        blocks(nn)
+    n0 = ints[DIM]
+    lead = n0 - 6               # an embedding's leading entries (the lift's contact coordinates)
+    first = CHILDREN + ints[CSTART]
+    best = -np.inf
+    arg = ints[first]
+    origin = False              # the best child is an origin embedding's origin
+    bx0 = bx1 = bx2 = 0.0
+    for c in range(ints[CCOUNT]):
+        i = ints[first + c]
+        k = ints[KIND + i]
+        leaf = i if k < HULL else ints[CHILDREN + ints[CSTART + i]]
+        p = ints[PSTART + leaf] + 2         # c (6), then S (6, 3) row-major
+        cu = x0 = x1 = x2 = 0.0
+        for a in range(6):
+            ua = u[lead + a]
+            cu += f[p + a] * ua
+            x0 += f[p + 6 + 3 * a] * ua
+            x1 += f[p + 7 + 3 * a] * ua
+            x2 += f[p + 8 + 3 * a] * ua
+        w = ints[WSTART + leaf]
+        wit[w] = 0.0
+        wit[w + 1] = x0
+        wit[w + 2] = x1
+        wit[w + 3] = x2
+        # c^T u apart: the sum waits on the square root once, not six times
+        h = cu + np.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+        at_origin = False
+        if k >= HULL:
+            p0 = ints[PSTART + i]
+            tu = 0.0
+            for a in range(int(f[p0 + 2])):
+                tu += f[p0 + 3 + a] * u[a]
+            if k == ORIGIN_EMBED:
+                wo = ints[WSTART + i]
+                wit[wo] = 0.0
+                wit[wo + 1] = 0.0
+                if not h > 0.0:
+                    h = 0.0
+                    at_origin = True
+            h += tu
+        if h > best:
+            best = h
+            arg = i
+            origin = at_origin
+            bx0 = x0
+            bx1 = x1
+            bx2 = x2
+    k = ints[KIND + arg]
+    if k >= HULL:
+        t0 = ints[PSTART + arg] + 3
+        for a in range(n0):
+            point[a] = f[t0 + a]
+    else:
+        for a in range(n0):
+            point[a] = 0.0
+    if origin:
+        wit[ints[WSTART + arg]] = 1.0
+        return best
+    nrm2 = bx0 * bx0 + bx1 * bx1 + bx2 * bx2
+    inv = 1.0 / np.sqrt(nrm2) if nrm2 > 0.0 else 0.0
+    bx0 *= inv
+    bx1 *= inv
+    bx2 *= inv
+    leaf = arg if k < HULL else ints[CHILDREN + ints[CSTART + arg]]
+    w = ints[WSTART + leaf]
+    wit[w] = 1.0
+    wit[w + 1] = bx0
+    wit[w + 2] = bx1
+    wit[w + 3] = bx2
+    p = ints[PSTART + leaf] + 2
+    for a in range(6):
+        point[lead + a] += (f[p + a] + f[p + 6 + 3 * a] * bx0 + f[p + 7 + 3 * a] * bx1
+                            + f[p + 8 + 3 * a] * bx2)
+    return best
+
+
+@borrowing
 def support(ints, f, u, point, wit):
     """h_A(u) (returned) and s_A(u) (into `point`) of eq. (2); the witness goes into `wit`.
 
@@ -301,6 +419,8 @@ def support(ints, f, u, point, wit):
     direction at f[dstart:], writes its point to f[ostart:ostart + dim] and its value to
     f[ostart + dim].
     """
+    if ints[ints.shape[0] - 1] == ELLIPSOID_HULL:
+        return _ellipsoid_hull(ints, f, u, point, wit)
     nn = ints[0]
     KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
         blocks(nn)

@@ -460,9 +460,10 @@ def _compile(root):
         params.append(np.asarray(p, dtype=float))
         pos += len(p)
     nparams = pos
+    plan = K.plan_of(kind, dim, lambda i: params[i], children_of)
     ints = np.concatenate(([nn], kind, dim, pstart, cstart, ccount, wstart, dstart + nparams,
                            ostart + nparams, np.zeros(2 * nn, np.int64),
-                           np.array(children, np.int64)))
+                           np.array(children, np.int64), [plan]))
     floats = np.concatenate(params + [np.zeros(dpos)])
     prog = (ints.astype(np.int64), floats)
     return prog, slots
