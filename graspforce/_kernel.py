@@ -329,9 +329,10 @@ def _ellipsoid_hull(ints, f, u, point, wit):
     an origin embedding's value is t^T u + max(0, h), the origin winning a tie). One loop over
     the children with the direction read from u and the best child's S^T u held in registers,
     then one point: the four passes' value, point and witnesses (the same flags and ties) at
-    107 ns a call on the ingot's W_Linf lift against 183, 88 against 124 on its W_L1
-    (BENCHMARKS.md, "Stop 25"). The passes pay for what a general tree needs: each node's
-    direction, value and point go through the scratch part of `floats`."""
+    112 ns a call on the ingot's W_Linf lift against 189, 89 against 127 on its W_L1
+    (benchmarks/support_plans.py; BENCHMARKS.md, "Stop 25"). The passes pay for what a general
+    tree needs: each node's kind and offsets are read in every pass, and its direction, value
+    and point go through the scratch part of `floats`."""
     nn = ints[0]
     KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
         blocks(nn)

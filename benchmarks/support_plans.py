@@ -1,0 +1,103 @@
+"""One support call of the compiled kernel, by the program's plan against the general passes.
+
+A program whose plan is not GENERAL (graspforce._kernel: the soft fingers' wrench sets, bare or
+lifted) is evaluated by a loop of its own; the same program with its plan entry set to GENERAL
+runs the four passes every other program runs. Both are timed here in one process, round by
+round (least of ROUNDS), inside a jitted loop over random unit directions, after checking that
+they return the same value, point and witnesses. Sets: the ingot grasp's W_L1 (R^6) and W_Linf's
+lift (R^9, what min_force shoots for Linf), and, as a program that keeps the passes, the growth
+protocol's Delta = R_A(A_0) - R_B(B_0) (an ellipsoid and a truncated cone).
+
+    python -m benchmarks.support_plans
+"""
+import time
+
+import numpy as np
+from numba import njit
+
+import graspforce as gf
+from benchmarks.grasp_sets import ingot_grasp
+from benchmarks.growth_sets import protocol_pairs
+from graspforce import _kernel as K
+from graspforce.wrench_space import lift_rows, lift_summand
+
+ROUNDS = 7
+DIRECTIONS = 1000
+REPS = 100
+
+
+@njit(cache=False)
+def _loop(ints, floats, U, reps, ws):
+    point = np.empty(U.shape[1])
+    wit = np.empty(ws)
+    u = np.empty(U.shape[1])
+    total = 0.0
+    for _ in range(reps):
+        for i in range(U.shape[0]):
+            for a in range(U.shape[1]):
+                u[a] = U[i, a]
+            total += K.support(ints, floats, u, point, wit)
+    return total
+
+
+def sets():
+    """{name: convex set} timed here."""
+    grasp = ingot_grasp()
+    W = grasp.contact_sets()
+    pair = protocol_pairs(1)[0]
+    growth = gf.GrowthDistance(gf.Ellipsoid(np.zeros(3), np.diag(pair["axes"])),
+                               gf.TruncatedCone(pair["rb"], pair["rt"], pair["h"]),
+                               warm_start=False)
+    growth((pair["R_e"], pair["p_e"]), (pair["R_c"], pair["p_c"]))     # writes the poses
+    return {"ingot W_L1": gf.hull(*W),
+            "ingot W_Linf lift": gf.hull(*[lift_summand(W_i, e)
+                                           for W_i, e in zip(W, lift_rows(len(W)))]),
+            "growth Delta": growth.delta}
+
+
+def _general(ints):
+    copy = ints.copy()
+    copy[-1] = K.GENERAL
+    return copy
+
+
+def _same_answers(A, U):
+    """Largest difference between the plan's and the passes' value, point and witness."""
+    ints, floats = A.program
+    worst = 0.0
+    for u in U:
+        out = []
+        for program in (ints, _general(ints)):
+            point, wit = np.empty(A.dim), np.empty(A.witness_size)
+            h = K.support(program, floats, u, point, wit)
+            out.append(np.concatenate(([h], point, wit)))
+        worst = max(worst, np.abs(out[0] - out[1]).max())
+    return worst
+
+
+def main():
+    rows = []
+    for name, A in sets().items():
+        ints, floats = A.program
+        U = np.random.default_rng(0).normal(size=(DIRECTIONS, A.dim))
+        U /= np.linalg.norm(U, axis=1, keepdims=True)
+        general = _general(ints)
+        best = {"plan": np.inf, "general": np.inf}
+        for program in (ints, general):
+            _loop(program, floats, U, 1, A.witness_size)
+        for _ in range(ROUNDS):
+            for key, program in (("plan", ints), ("general", general)):
+                t0 = time.perf_counter_ns()
+                _loop(program, floats, U, REPS, A.witness_size)
+                best[key] = min(best[key], (time.perf_counter_ns() - t0) / (REPS * DIRECTIONS))
+        plan = {K.GENERAL: "GENERAL", K.ELLIPSOID_HULL: "ELLIPSOID_HULL"}[int(ints[-1])]
+        rows.append((name, plan, best["plan"], best["general"], _same_answers(A, U[:200])))
+    print("| set | plan | plan's loop (ns) | four passes (ns) | passes / plan | max difference |")
+    print("|---|---|---|---|---|---|")
+    for name, plan, ns_plan, ns_general, diff in rows:
+        print(f"| {name} | {plan} | {ns_plan:.1f} | {ns_general:.1f} | "
+              f"{ns_general / ns_plan:.2f} | {diff:.1e} |")
+
+
+if __name__ == "__main__":
+    main()
