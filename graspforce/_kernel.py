@@ -82,18 +82,15 @@ def params_size(ints):
     return int(ints[_block(ints, "dstart")])
 
 
-def plan_of(kind, dim, params_of, child_lists):
-    """The plan of a program (module docstring) from its nodes' kinds, dimensions, parameters
-    (a function of the node) and children (Python side, when the set compiles)."""
+def plan_of(kind, dim, params, child_lists):
+    """The plan of a program (module docstring) from its nodes' kinds, dimensions, parameter
+    arrays and children (Python side, when the set compiles)."""
     if kind[0] != HULL:
         return GENERAL
     for c in child_lists[0]:
-        leaf = c
-        if kind[c] in (EMBED, ORIGIN_EMBED):
-            leaf = child_lists[c][0]
-        if kind[leaf] != ELLIPSOID or dim[leaf] != 6:
-            return GENERAL
-        if int(params_of(leaf)[1]) != 3:
+        leaf = child_lists[c][0] if kind[c] in (EMBED, ORIGIN_EMBED) else c
+        # an ellipsoid's parameters start [n, k]
+        if kind[leaf] != ELLIPSOID or dim[leaf] != 6 or params[leaf][1] != 3:
             return GENERAL
     return ELLIPSOID_HULL
 

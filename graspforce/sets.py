@@ -460,7 +460,7 @@ def _compile(root):
         params.append(np.asarray(p, dtype=float))
         pos += len(p)
     nparams = pos
-    plan = K.plan_of(kind, dim, lambda i: params[i], children_of)
+    plan = K.plan_of(kind, dim, params, children_of)
     ints = np.concatenate(([nn], kind, dim, pstart, cstart, ccount, wstart, dstart + nparams,
                            ostart + nparams, np.zeros(2 * nn, np.int64),
                            np.array(children, np.int64), [plan]))
