@@ -217,7 +217,7 @@ def warm_start_rows(eps, steps=(400, 4000)):
 
 def time_split(pairs, eps, method="zc-ie"):
     """Where a query's time goes (contact case): the whole Python call, the compiled query
-    called from Python (graspforce._growth.query: Numba's dispatch of its nine arrays, pose
+    called from Python (graspforce._growth.query: Numba's dispatch of its seven arrays, pose
     checks, rotations written in place, the shooter), and the support calls alone (mean calls
     per query times one call's cost, from a compiled loop)."""
     from numba import njit
@@ -244,7 +244,7 @@ def time_split(pairs, eps, method="zc-ie"):
         dt, res = timed_query(g, pa, pb)
         full.append(dt)
         calls.append(res.support_calls)
-        args = (g._ints, g._floats, g._setup, g._state, *pa, *pb, np.empty(g._size))
+        args = (g._ints, g._floats, *pa, *pb, np.empty(g._size))
         query(*args)
         t0 = time.perf_counter_ns()
         query(*args)

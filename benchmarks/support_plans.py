@@ -1,12 +1,14 @@
 """One support call of the compiled kernel, by the program's plan against the general passes.
 
 A program whose plan is not GENERAL (graspforce._kernel: the soft fingers' wrench sets, bare or
-lifted) is evaluated by a loop of its own; the same program with its plan entry set to GENERAL
-runs the four passes every other program runs. Both are timed here in one process, round by
-round (least of ROUNDS), inside a jitted loop over random unit directions, after checking that
-they return the same value, point and witnesses. Sets: the ingot grasp's W_L1 (R^6) and W_Linf's
-lift (R^9, what min_force shoots for Linf), and, as a program that keeps the passes, the growth
-protocol's Delta = R_A(A_0) - R_B(B_0) (an ellipsoid and a truncated cone).
+lifted; sums of posed 3-D bodies) is evaluated by a loop of its own; the same program with its
+plan entry set to GENERAL runs the four passes every other program runs. Both are timed here in
+one process, round by round (least of ROUNDS), inside a jitted loop over random unit directions,
+after checking that they return the same value, point and witnesses. Sets: the ingot grasp's
+W_L1 (R^6) and W_Linf's lift (R^9, what min_force shoots for Linf); the growth protocol's
+Delta = R_A(A_0) - R_B(B_0) (an ellipsoid and a truncated cone, leaves the plan evaluates in
+registers), the same for a box and a polytope (leaves it evaluates by the passes' leaf code), and,
+as a program that keeps the passes, a capsule's Delta (a sum under each pose).
 
     python -m benchmarks.support_plans
 """
@@ -45,14 +47,22 @@ def sets():
     grasp = ingot_grasp()
     W = grasp.contact_sets()
     pair = protocol_pairs(1)[0]
-    growth = gf.GrowthDistance(gf.Ellipsoid(np.zeros(3), np.diag(pair["axes"])),
-                               gf.TruncatedCone(pair["rb"], pair["rt"], pair["h"]),
-                               warm_start=False)
-    growth((pair["R_e"], pair["p_e"]), (pair["R_c"], pair["p_c"]))     # writes the poses
+    poses = ((pair["R_e"], pair["p_e"]), (pair["R_c"], pair["p_c"]))
+    vertices = np.random.default_rng(0).normal(size=(20, 3))
+    deltas = {}
+    for name, A, B in (
+            ("ellipsoid, cone", gf.Ellipsoid(np.zeros(3), np.diag(pair["axes"])),
+             gf.TruncatedCone(pair["rb"], pair["rt"], pair["h"])),
+            ("box, polytope", gf.Box([0.3, 0.5, 0.7]), gf.Polytope(vertices - vertices.mean(0))),
+            ("capsule, cone", gf.Capsule(0.3, 1.0),
+             gf.TruncatedCone(pair["rb"], pair["rt"], pair["h"]))):
+        growth = gf.GrowthDistance(A, B, warm_start=False)
+        growth(*poses)                                                  # writes the poses
+        deltas[f"growth Delta ({name})"] = growth.delta
     return {"ingot W_L1": gf.hull(*W),
             "ingot W_Linf lift": gf.hull(*[lift_summand(W_i, e)
                                            for W_i, e in zip(W, lift_rows(len(W)))]),
-            "growth Delta": growth.delta}
+            **deltas}
 
 
 def _general(ints):
@@ -90,7 +100,8 @@ def main():
                 t0 = time.perf_counter_ns()
                 _loop(program, floats, U, REPS, A.witness_size)
                 best[key] = min(best[key], (time.perf_counter_ns() - t0) / (REPS * DIRECTIONS))
-        plan = {K.GENERAL: "GENERAL", K.ELLIPSOID_HULL: "ELLIPSOID_HULL"}[int(ints[-1])]
+        plan = {K.GENERAL: "GENERAL", K.ELLIPSOID_HULL: "ELLIPSOID_HULL",
+                K.POSED_SUM: "POSED_SUM"}[int(ints[-1])]
         rows.append((name, plan, best["plan"], best["general"], _same_answers(A, U[:200])))
     print("| set | plan | plan's loop (ns) | four passes (ns) | passes / plan | max difference |")
     print("|---|---|---|---|---|---|")

@@ -6,10 +6,10 @@ more than the shooter itself on small shapes (measured: 5 us of 20). The query i
 one signature (graspforce._signature), so that a pose of another type (a list, float32, a
 non-contiguous view) fails the call with a TypeError instead of compiling a new specialization
 for minutes; the Python side then converts it and calls again (graspforce.growth). Its
-arguments are arrays only, the solver's constants and warm-start memory among them (`setup`,
-`state`), and it fills an array the caller allocated: each scalar argument and each returned
-array costs the call from Python (measured: 16 arguments and a returned array 1.6 us, these nine
-arrays 0.8 us).
+arguments are arrays only, and it fills an array the caller allocated: each scalar argument and
+each returned array costs the call from Python (measured: 16 arguments and a returned array
+1.6 us, nine arrays 0.8 us). The solver's constants and warm-start memory (`TAIL`) ride at the end
+of the program's floats, which the kernel reads only at its nodes' offsets: seven arrays, not nine.
 """
 import numpy as np
 from numba import njit, types
@@ -46,17 +46,16 @@ SPREAD_MAX = 0.2
 POSES = 24
 FRAME = POSES + HEAD
 
-# setup (int64): the program's two rotation offsets, the witness size, the method, max_iter,
-# whether to warm-start; state (float64): eps, touching_tol, then the warm start's memory
-# (whether the last call was certified, the spread for the next one, the last normal)
-MA, MB, WS, METHOD, MAX_ITER, WARM_START = range(6)
-EPS, TOUCHING_TOL, WARM, SPREAD, NORMAL = range(5)
-STATE_SIZE = NORMAL + 3
+# the last TAIL entries of the program's floats: the program's two rotation offsets, the witness
+# size, the method, max_iter, whether to warm-start (integers), eps, touching_tol, then the warm
+# start's memory (whether the last call was certified, the spread for the next one, the last
+# normal)
+MA, MB, WS, METHOD, MAX_ITER, WARM_START, EPS, TOUCHING_TOL, WARM, SPREAD, NORMAL = range(11)
+TAIL = NORMAL + 3
 WARM_SPREAD = 0.05     # first warm start: probes at the last normal +- this (a unit vector's tilt)
 
 # the one signature of `query` (graspforce._signature)
-SIGNATURE = (INTS, VECTOR, INTS, VECTOR, types.float64[:, ::1], VECTOR, types.float64[:, ::1],
-             VECTOR, VECTOR)
+SIGNATURE = (INTS, VECTOR, types.float64[:, ::1], VECTOR, types.float64[:, ::1], VECTOR, VECTOR)
 
 
 @borrowing
@@ -80,7 +79,7 @@ def _proper(R, p):
 
 
 @njit(cache=True)
-def query(ints, floats, setup, state, R_a, p_a, R_b, p_b, packed):
+def query(ints, floats, R_a, p_a, R_b, p_b, packed):
     """(code, verdict, sigma, sigma_lower, sigma_upper, iterations, support_calls) for
     Delta = R_A(A_0) - R_B(B_0) and r = p_B - p_A (eq. 10).
 
@@ -94,11 +93,11 @@ def query(ints, floats, setup, state, R_a, p_a, R_b, p_b, packed):
     estimate, inf for t = 0), bracket [0, inf].
     packed (FRAME + capacity(3, ws) entries): the frame [R_A, p_A, R_B, p_B, the shooter's
     head] (a copy, so that the record's contact stays right if the caller reuses its pose
-    arrays), then the arrays of `_dispatch.shoot` (graspforce._packed). setup and state: above;
-    the program's Affine nodes hold M = R_A at floats[ma:ma + 9] and M = -R_B at
+    arrays), then the arrays of `_dispatch.shoot` (graspforce._packed). floats ends with TAIL
+    (above); the program's Affine nodes hold M = R_A at floats[ma:ma + 9] and M = -R_B at
     floats[mb:mb + 9] (row-major), overwritten here. With WARM_START, a call after a certified
     one starts ZC-IE from probes around the last normal (graspforce._warm), spread by the last
-    change of the normal; the state remembers both.
+    change of the normal; the tail remembers both.
     """
     code = OK
     if not _proper(R_a, p_a):
@@ -107,8 +106,9 @@ def query(ints, floats, setup, state, R_a, p_a, R_b, p_b, packed):
         code = BAD_POSE_B
     if code != OK:
         return code, NOT_CERTIFIED, 0.0, 0.0, 0.0, 0, 0
-    ma = setup[MA]
-    mb = setup[MB]
+    c = floats.shape[0] - TAIL
+    ma = int(floats[c + MA])
+    mb = int(floats[c + MB])
     r = np.empty(3)
     rr = 0.0
     for a in range(3):
@@ -125,18 +125,18 @@ def query(ints, floats, setup, state, R_a, p_a, R_b, p_b, packed):
         # A(0) = B(0): no shot, an empty head, no normal to remember
         for a in range(POSES, FRAME):
             packed[a] = 0.0
-        state[WARM] = 0.0
-        state[SPREAD] = WARM_SPREAD
+        floats[c + WARM] = 0.0
+        floats[c + SPREAD] = WARM_SPREAD
         return COINCIDENT, PENETRATING, 0.0, 0.0, 0.0, 0, 0
-    ws = setup[WS]
-    eps = state[EPS]
-    max_iter = setup[MAX_ITER]
-    warm = state[WARM] > 0.0
-    normal = state[NORMAL:NORMAL + 3]
+    ws = int(floats[c + WS])
+    eps = floats[c + EPS]
+    max_iter = int(floats[c + MAX_ITER])
+    warm = floats[c + WARM] > 0.0
+    normal = floats[c + NORMAL:c + NORMAL + 3]
     if warm:
-        out = shoot_warm(ints, floats, r, ws, eps, max_iter, normal, state[SPREAD])
+        out = shoot_warm(ints, floats, r, ws, eps, max_iter, normal, floats[c + SPREAD])
     else:
-        out = shoot(ints, floats, r, ws, setup[METHOD], eps, max_iter)
+        out = shoot(ints, floats, r, ws, int(floats[c + METHOD]), eps, max_iter)
     status, t, t_up, h_n, iterations, calls, singular, k = pack(out, packed, FRAME)
     packed[POSES] = status
     packed[POSES + 1] = t
@@ -146,17 +146,17 @@ def query(ints, floats, setup, state, R_a, p_a, R_b, p_b, packed):
     packed[POSES + 5] = calls
     packed[POSES + 6] = singular
     packed[POSES + 7] = k
-    if setup[WARM_START] != 0:
+    if floats[c + WARM_START] != 0.0:
         # the first warm call probes at WARM_SPREAD, the next ones at the last change of the
         # normal times SPREAD_GAIN
         if status == HIT and warm:
             dn = 0.0
             for a in range(3):
                 dn += (out[6][a] - normal[a]) ** 2
-            state[SPREAD] = min(max(SPREAD_GAIN * np.sqrt(dn), SPREAD_MIN), SPREAD_MAX)
+            floats[c + SPREAD] = min(max(SPREAD_GAIN * np.sqrt(dn), SPREAD_MIN), SPREAD_MAX)
         else:
-            state[SPREAD] = WARM_SPREAD
-        state[WARM] = 1.0 if status == HIT else 0.0
+            floats[c + SPREAD] = WARM_SPREAD
+        floats[c + WARM] = 1.0 if status == HIT else 0.0
         if status == HIT:
             for a in range(3):
                 normal[a] = out[6][a]
@@ -165,7 +165,7 @@ def query(ints, floats, setup, state, R_a, p_a, R_b, p_b, packed):
         return code, NOT_CERTIFIED, sigma, 0.0, np.inf, iterations, calls
     upper = 1.0 / t
     lower = min(1.0 / t_up, upper)
-    tol = state[TOUCHING_TOL]
+    tol = floats[c + TOUCHING_TOL]
     if lower - tol <= 1.0 <= upper + tol:
         verdict = TOUCHING
     else:

@@ -5,8 +5,9 @@ its children) in flat arrays. `support` evaluates h_A(u) and s_A(u) of eq. (2) f
 four passes: directions flow down the tree (an affine node maps u to M^T u), support values flow
 up (a hull keeps its best child, a sum adds), the leaves that produced the point are flagged in the
 witness vector, and the support point is built up from the flagged nodes only. Every algorithm is
-compiled once against this kernel, whatever the shape. One program shape takes a loop of its own
-instead of the passes (its `plan`): the soft fingers' wrench sets, shot at on every min_force call.
+compiled once against this kernel, whatever the shape. Two program shapes take loops of their
+own instead of the passes (their `plan`): the soft fingers' wrench sets, shot at on every
+min_force call, and sums of posed 3-D bodies, growth distance's Delta.
 
 A program is two arrays, `ints` and `floats`, so that a call from Python unboxes two arrays, not
 twelve. `ints` = [nn, kind, dim, pstart, cstart, ccount, wstart, dstart, ostart, choice,
@@ -22,8 +23,8 @@ active, children, plan] (each block nn long but `children` and the one entry `pl
     ostart[i]    offset of its point and value in `scratch`
     choice[i], active[i]   work arrays: a hull's best child (an origin embedding's child, or -1
                  for its origin), whether node i produced the point
-    plan         how `support` evaluates the program (GENERAL or ELLIPSOID_HULL below,
-                 decided by `plan_of` when the set compiles)
+    plan         how `support` evaluates the program (GENERAL, ELLIPSOID_HULL or POSED_SUM
+                 below, decided by `plan_of` when the set compiles)
 """
 import numpy as np
 from numba import njit
@@ -53,6 +54,9 @@ ORIGIN_EMBED = 14  # params as EMBED: the embedding of CH({0} U child), h = t^T 
 # the edge-of-cone cases), where the passes' rounding lets the Newton finish close it
 GENERAL = 0
 ELLIPSOID_HULL = 1
+# a sum in R^3 of leaves each under its own 3x3 affine map: Delta = R_A(A_0) - R_B(B_0) of growth
+# distance (graspforce.growth), and any sum of posed bodies
+POSED_SUM = 2
 
 # the blocks of `ints` after nn, in order (`blocks` gives their offsets to compiled code)
 BLOCKS = ("kind", "dim", "pstart", "cstart", "ccount", "wstart", "dstart", "ostart", "choice",
@@ -85,6 +89,12 @@ def params_size(ints):
 def plan_of(kind, dim, params, child_lists):
     """The plan of a program (module docstring) from its nodes' kinds, dimensions, parameter
     arrays and children (Python side, when the set compiles)."""
+    if kind[0] == SUM and dim[0] == 3:
+        for c in child_lists[0]:
+            leaf = child_lists[c][0] if kind[c] == AFFINE else c
+            if kind[c] != AFFINE or kind[leaf] >= HULL or dim[leaf] != 3:
+                return GENERAL
+        return POSED_SUM
     if kind[0] != HULL:
         return GENERAL
     for c in child_lists[0]:
@@ -142,13 +152,20 @@ def _leaf_value(k, f, p, d, o, wit, w):
         return h
     if k == CONE_CAP:
         return _cone_cap_support(f, p, d, o, wit, w)
-    # TRUNCATED_CONE: the hull of two coaxial disks
+    h, x, y, z = _truncated_cone(f, p, w, wit, f[d], f[d + 1], f[d + 2])
+    f[o] = x
+    f[o + 1] = y
+    f[o + 2] = z
+    return h
+
+
+@njit(cache=True, inline='always')
+def _truncated_cone(f, p, w, wit, ux, uy, uz):
+    """(h, x, y, z) of a truncated cone (the hull of two coaxial disks; parameters rb, rt,
+    height at f[p:]) in direction u, its point written to its witness slot wit[w + 1:]."""
     rb = f[p]
     rt = f[p + 1]
     hz = 0.5 * f[p + 2]
-    ux = f[d]
-    uy = f[d + 1]
-    uz = f[d + 2]
     q = np.sqrt(ux * ux + uy * uy)
     h_top = hz * uz + rt * q
     h_bot = -hz * uz + rb * q
@@ -162,13 +179,10 @@ def _leaf_value(k, f, p, d, o, wit, w):
         h = h_bot
     x = rad * ux / q if q > 0.0 else 0.0
     y = rad * uy / q if q > 0.0 else 0.0
-    f[o] = x
-    f[o + 1] = y
-    f[o + 2] = z
     wit[w + 1] = x
     wit[w + 2] = y
     wit[w + 3] = z
-    return h
+    return h, x, y, z
 
 
 def _ellipsoid_of(fixed_n, fixed_k):
@@ -326,10 +340,10 @@ def _ellipsoid_hull(ints, f, u, point, wit):
     an origin embedding's value is t^T u + max(0, h), the origin winning a tie). One loop over
     the children with the direction read from u and the best child's S^T u held in registers,
     then one point: the four passes' value, point and witnesses (the same flags and ties) at
-    112 ns a call on the ingot's W_Linf lift against 189, 89 against 127 on its W_L1
-    (benchmarks/support_plans.py; BENCHMARKS.md, "Stop 25"). The passes pay for what a general
-    tree needs: each node's kind and offsets are read in every pass, and its direction, value
-    and point go through the scratch part of `floats`."""
+    86 ns a call on the ingot's W_Linf lift against 184, 77 against 119 on its W_L1
+    (benchmarks/support_plans.py; BENCHMARKS.md, "Stop 25" and "Stop 26"). The passes pay for
+    what a general tree needs: each node's kind and offsets are read in every pass, and its
+    direction, value and point go through the scratch part of `floats`."""
     nn = ints[0]
     KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
         blocks(nn)
@@ -410,15 +424,100 @@ def _ellipsoid_hull(ints, f, u, point, wit):
 
 
 @borrowing
+def _posed_sum(ints, f, u, point, wit):
+    """`support` for the plan POSED_SUM: the root sums children x -> M x + t in R^3, each over a
+    leaf. One loop over the children with the direction M^T u and the leaf's point in registers:
+    32 ns a call on the growth protocol's Delta (an ellipsoid and a truncated cone) against 102
+    by the passes (benchmarks/support_plans.py). Ellipsoids with 3 axes and truncated cones are
+    evaluated in registers; other leaves (boxes, polytopes) take the passes' leaf code through
+    the scratch part of `floats` (the protocol's Delta written that way for every leaf: 65 ns
+    against 39 in one harness; BENCHMARKS.md, "Stop 26"). The
+    ellipsoid's arithmetic is `_ellipsoid_3_3_value` and `_point` fused, because every leaf of a
+    sum is active: the passes split them so that a hull pays for its chosen child's point only."""
+    nn = ints[0]
+    KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
+        blocks(nn)
+    u0 = u[0]
+    u1 = u[1]
+    u2 = u[2]
+    first = CHILDREN + ints[CSTART]
+    h = 0.0
+    p0 = p1 = p2 = 0.0
+    for c in range(ints[CCOUNT]):
+        i = ints[first + c]
+        M = ints[PSTART + i] + 2            # M (3, 3) row-major, then t
+        v0 = f[M] * u0 + f[M + 3] * u1 + f[M + 6] * u2
+        v1 = f[M + 1] * u0 + f[M + 4] * u1 + f[M + 7] * u2
+        v2 = f[M + 2] * u0 + f[M + 5] * u1 + f[M + 8] * u2
+        leaf = ints[CHILDREN + ints[CSTART + i]]
+        k = ints[KIND + leaf]
+        p = ints[PSTART + leaf]
+        w = ints[WSTART + leaf]
+        wit[w] = 1.0
+        if k == ELLIPSOID and f[p] == 3.0 and f[p + 1] == 3.0:
+            s = p + 5                       # n, k, c (3), then S (3, 3) row-major
+            y0 = f[s] * v0 + f[s + 3] * v1 + f[s + 6] * v2
+            y1 = f[s + 1] * v0 + f[s + 4] * v1 + f[s + 7] * v2
+            y2 = f[s + 2] * v0 + f[s + 5] * v1 + f[s + 8] * v2
+            nrm = np.sqrt(y0 * y0 + y1 * y1 + y2 * y2)
+            hl = f[p + 2] * v0 + f[p + 3] * v1 + f[p + 4] * v2 + nrm
+            inv = 1.0 / nrm if nrm > 0.0 else 0.0
+            y0 *= inv
+            y1 *= inv
+            y2 *= inv
+            wit[w + 1] = y0
+            wit[w + 2] = y1
+            wit[w + 3] = y2
+            x = f[p + 2] + f[s] * y0 + f[s + 1] * y1 + f[s + 2] * y2
+            y = f[p + 3] + f[s + 3] * y0 + f[s + 4] * y1 + f[s + 5] * y2
+            z = f[p + 4] + f[s + 6] * y0 + f[s + 7] * y1 + f[s + 8] * y2
+        elif k == TRUNCATED_CONE:
+            hl, x, y, z = _truncated_cone(f, p, w, wit, v0, v1, v2)
+        else:
+            d = ints[DSTART + leaf]
+            o = ints[OSTART + leaf]
+            f[d] = v0
+            f[d + 1] = v1
+            f[d + 2] = v2
+            hl = _leaf_value(k, f, p, d, o, wit, w)
+            _leaf_point(k, f, p, o, wit, w)
+            x = f[o]
+            y = f[o + 1]
+            z = f[o + 2]
+        t = M + 9
+        h += hl + f[t] * u0 + f[t + 1] * u1 + f[t + 2] * u2
+        p0 += f[t] + f[M] * x + f[M + 1] * y + f[M + 2] * z
+        p1 += f[t + 1] + f[M + 3] * x + f[M + 4] * y + f[M + 5] * z
+        p2 += f[t + 2] + f[M + 6] * x + f[M + 7] * y + f[M + 8] * z
+    point[0] = p0
+    point[1] = p1
+    point[2] = p2
+    return h
+
+
+@borrowing(forceinline=True)
 def support(ints, f, u, point, wit):
     """h_A(u) (returned) and s_A(u) (into `point`) of eq. (2); the witness goes into `wit`.
+
+    Inlined where it is called, so that the plan picks a call with a frame of its own size:
+    with the plans' loops inside the passes' function, a call on the protocol's Delta took
+    65 ns against 42 for the same loop called alone (BENCHMARKS.md, "Stop 26")."""
+    plan = ints[ints.shape[0] - 1]
+    if plan == ELLIPSOID_HULL:
+        return _ellipsoid_hull(ints, f, u, point, wit)
+    if plan == POSED_SUM:
+        return _posed_sum(ints, f, u, point, wit)
+    return _passes(ints, f, u, point, wit)
+
+
+@borrowing
+def _passes(ints, f, u, point, wit):
+    """`support` by four passes over the tree (plan GENERAL).
 
     The blocks of `ints` are those of BLOCKS, at the offsets `blocks(nn)`. Node i reads its
     direction at f[dstart:], writes its point to f[ostart:ostart + dim] and its value to
     f[ostart + dim].
     """
-    if ints[ints.shape[0] - 1] == ELLIPSOID_HULL:
-        return _ellipsoid_hull(ints, f, u, point, wit)
     nn = ints[0]
     KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
         blocks(nn)

@@ -27,9 +27,9 @@ B(sigma) in {x : n^T x >= n^T point_b}. So n, normalized, is the contact normal 
 """
 import numpy as np
 
-from ._growth import (BAD_POSE_A, COINCIDENT, EPS, FRAME, NOT_CERTIFIED, OK, PENETRATING, POSES,
-                      SEPARATED, SIGNATURE, SPREAD, STATE_SIZE, TOUCHING, TOUCHING_TOL,
-                      WARM_SPREAD, query)
+from ._growth import (BAD_POSE_A, COINCIDENT, EPS, FRAME, MA, MAX_ITER, MB, METHOD,
+                      NOT_CERTIFIED, OK, PENETRATING, POSES, SEPARATED, SIGNATURE, SPREAD, TAIL,
+                      TOUCHING, TOUCHING_TOL, WARM_SPREAD, WARM_START, WS, query)
 from ._kernel import children, param_start
 from ._packed import capacity
 from ._signature import one_signature
@@ -76,7 +76,7 @@ class GrowthDistance:
     warm_start (method "zc-ie" only): each call after a certified one starts IE from support
     points in directions spread around the previous normal (graspforce._warm) instead of ZC from
     the origin; for a pair that moves little between calls (time coherence). The compiled query
-    keeps that memory in the solver's state array (graspforce._growth).
+    keeps that memory at the end of the program's floats (graspforce._growth).
     """
 
     def __init__(self, A, B, method="zc-ie", eps=1e-9, max_iter=10000, touching_tol=1e-9,
@@ -96,16 +96,19 @@ class GrowthDistance:
         self.touching_tol = touching_tol
         self.delta = MinkowskiSum([Affine(np.eye(3), A), Affine(-np.eye(3), B)])
         ints, floats = self.delta.program
+        # the query's constants and memory go at the end of the program's floats
+        # (graspforce._growth, TAIL): the kernel reads floats at its nodes' offsets only
+        floats = np.concatenate((floats, np.zeros(TAIL)))
+        self.delta._program = (ints, floats)
         # an Affine node's parameters are [m, n, M (row-major), t]: M starts 2 further
         ma, mb = (param_start(ints, node) + 2 for node in children(ints, 0))
         self._ints, self._floats = ints, floats
         ws = self.delta.witness_size
         self._leaves_a = len(A.leaves())
         self.warm_start = bool(warm_start) and method == "zc-ie"
-        self._setup = np.array([ma, mb, ws, self._code, self.max_iter, self.warm_start],
-                               np.int64)
-        self._state = np.zeros(STATE_SIZE)
-        self._state[[EPS, TOUCHING_TOL, SPREAD]] = self.eps, touching_tol, WARM_SPREAD
+        floats[-TAIL:][[MA, MB, WS, METHOD, MAX_ITER, WARM_START, EPS, TOUCHING_TOL, SPREAD]] = (
+            ma, mb, ws, self._code, self.max_iter, self.warm_start, self.eps, touching_tol,
+            WARM_SPREAD)
         self._size = FRAME + capacity(3, ws)
         one_signature(query, SIGNATURE)
 
@@ -117,15 +120,13 @@ class GrowthDistance:
             # query; anything else fails it with a TypeError (one compiled signature) or fails
             # to unpack, and is converted below
             (R_a, p_a), (R_b, p_b) = pose_a, pose_b
-            res = query(self._ints, self._floats, self._setup, self._state, R_a, p_a, R_b, p_b,
-                        packed)
+            res = query(self._ints, self._floats, R_a, p_a, R_b, p_b, packed)
         except (TypeError, ValueError):
             res = None
         if res is None or res[0] != OK:
             R_a, p_a = parse_pose(pose_a, "pose_a")
             R_b, p_b = parse_pose(pose_b, "pose_b")
-            res = query(self._ints, self._floats, self._setup, self._state, R_a, p_a, R_b, p_b,
-                        packed)
+            res = query(self._ints, self._floats, R_a, p_a, R_b, p_b, packed)
             code = res[0]
             if code != OK and code != COINCIDENT:
                 name = "pose_a" if code == BAD_POSE_A else "pose_b"

@@ -323,6 +323,54 @@ def test_ellipsoid_hulls_take_one_loop_that_matches_the_general_passes():
         assert A.program[0][-1] == K.GENERAL
 
 
+def test_posed_sums_take_one_loop_that_matches_the_general_passes():
+    # growth distance's Delta = R_A(A_0) - R_B(B_0) and any sum of leaves under 3x3 maps: the
+    # plan's loop (graspforce._kernel.POSED_SUM) gives the passes' value, point and witnesses for
+    # every leaf, in registers (3-axis ellipsoids, truncated cones) or by the passes' leaf code
+    from graspforce import _kernel as K
+    rng = np.random.default_rng(26)
+    leaves = [gf.Ellipsoid(*random_ellipsoid(rng, 3, 3)), gf.Ball(np.zeros(3), 0.7),
+              gf.TruncatedCone(0.6, 0.2, 1.1), gf.TruncatedCone(0.5, 0.0, 0.8),
+              gf.TruncatedCone(0.4, 0.4, 1.5), gf.Box([0.3, 0.5, 0.7]),
+              gf.Polytope(rng.standard_normal((12, 3))), gf.Ellipsoid(*random_ellipsoid(rng, 3, 2)),
+              gf.ConeCap(0.5, 3)]
+    for i, A in enumerate(leaves):
+        B = leaves[(i + 2) % len(leaves)]
+        R_a, R_b = random_rotation(rng, 3), random_rotation(rng, 3)
+        posed = [gf.affine(R_a, A, rng.standard_normal(3)),
+                 gf.affine(-R_b, B, rng.standard_normal(3)), gf.affine(R_b, leaves[i - 1])]
+        sums = [gf.minkowski_sum(*posed[:2]), gf.minkowski_sum(*posed)]
+        for D in sums:
+            assert D.program[0][-1] == K.POSED_SUM
+            # random directions, and the ones where the leaves' own branches meet: a cone's or
+            # a cap's axis, a box's faces and edges (zero entries in its local frame)
+            special = [R @ e for R in (R_a, -R_b) for e in np.vstack((np.eye(3), -np.eye(3),
+                                                                        [[1, 1, 0], [0, 1, -1]]))]
+            dirs = np.vstack((unit_dirs(rng, 3, 200), special, np.zeros((1, 3))))
+            for j, u in enumerate(dirs):
+                h, point, wit = _support_by(K.POSED_SUM, D, u)
+                h_ref, point_ref, wit_ref = _support_by(K.GENERAL, D, u)
+                scale = max(1.0, np.abs(point_ref).max())
+                assert abs(h - h_ref) <= 1e-14 * scale
+                if j < 200:
+                    assert np.abs(point - point_ref).max() <= 1e-14 * scale
+                    assert np.abs(wit - wit_ref).max() <= 1e-14 * max(1.0, np.abs(wit_ref).max())
+                else:
+                    # a face's direction: rounding picks one of its points (the cone's rim point
+                    # on its axis follows the last bits of (u_x, u_y)); any is right if it is
+                    # the point its witness names, and supporting
+                    assert abs(u @ point - h) <= 1e-14 * scale
+                    named = D.witness_point(D.decode_witness(wit))
+                    assert np.abs(named - point).max() <= 1e-14 * scale
+    A = gf.Ball(np.zeros(3), 1.0)
+    R = random_rotation(rng, 3)
+    for D in (gf.minkowski_sum(gf.affine(R, gf.Capsule(0.2, 1.0)), gf.affine(R, A)),
+              gf.minkowski_sum(A, gf.affine(R, A)), gf.affine(R, gf.minkowski_sum(A, A)),
+              gf.minkowski_sum(*[gf.affine(np.eye(2), gf.Ball(np.zeros(2), 1.0))] * 2),
+              gf.minkowski_sum(gf.affine(np.ones((3, 2)), gf.Ball(np.zeros(2), 1.0)), A)):
+        assert D.program[0][-1] == K.GENERAL
+
+
 def test_neg_and_pose_identities():
     rng = np.random.default_rng(11)
     c, S = random_ellipsoid(rng, 3)
