@@ -64,7 +64,7 @@ def reproduce(P, x, k, b):
     return True
 
 
-@borrowing(forceinline=True)
+@borrowing
 def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x, house, fact):
     """Reduce the simplex P[:k] (the last row just added, weight 0) to the minimal subset whose
     hull (affine=True: convex combinations) or cone (affine=False: nonnegative combinations of
@@ -78,11 +78,6 @@ def corral(P, Wt, lam, k, target, shift, affine, D, work, rhs, wrhs, x, house, f
     Returns (k, newest_kept, fact): newest_kept is False when the new point brought no
     improvement or was numerically dependent on the others, which the callers read as "no
     progress"; fact for the next call.
-
-    Inlined into GJK and ZC, with `lstsq_append` inlined into it: as calls, their eleven and six
-    arrays, seven fields each, cost more than a small problem's arithmetic (ZC from the origin
-    on growth distance's Delta, 3 support calls: 721 ns as calls, 502 with `lstsq_append`
-    inlined, 385 with both).
     """
     n = P.shape[1]
     off = 1 if affine else 0     # row j of P is column j - off of D

@@ -340,8 +340,8 @@ def _ellipsoid_hull(ints, f, u, point, wit):
     an origin embedding's value is t^T u + max(0, h), the origin winning a tie). One loop over
     the children with the direction read from u and the best child's S^T u held in registers,
     then one point: the four passes' value, point and witnesses (the same flags and ties) at
-    86 ns a call on the ingot's W_Linf lift against 184, 77 against 119 on its W_L1
-    (benchmarks/support_plans.py; BENCHMARKS.md, "Stop 25" and "Stop 26"). The passes pay for
+    112 ns a call on the ingot's W_Linf lift against 189, 89 against 127 on its W_L1
+    (benchmarks/support_plans.py; BENCHMARKS.md, "Stop 25"). The passes pay for
     what a general tree needs: each node's kind and offsets are read in every pass, and its
     direction, value and point go through the scratch part of `floats`."""
     nn = ints[0]
@@ -423,11 +423,11 @@ def _ellipsoid_hull(ints, f, u, point, wit):
     return best
 
 
-@borrowing
+@borrowing(forceinline=True)
 def _posed_sum(ints, f, u, point, wit):
     """`support` for the plan POSED_SUM: the root sums children x -> M x + t in R^3, each over a
     leaf. One loop over the children with the direction M^T u and the leaf's point in registers:
-    32 ns a call on the growth protocol's Delta (an ellipsoid and a truncated cone) against 102
+    ~50 ns a call on the growth protocol's Delta (an ellipsoid and a truncated cone) against ~110
     by the passes (benchmarks/support_plans.py). Ellipsoids with 3 axes and truncated cones are
     evaluated in registers; other leaves (boxes, polytopes) take the passes' leaf code through
     the scratch part of `floats` (the protocol's Delta written that way for every leaf: 65 ns
@@ -495,29 +495,19 @@ def _posed_sum(ints, f, u, point, wit):
     return h
 
 
-@borrowing(forceinline=True)
+@borrowing
 def support(ints, f, u, point, wit):
     """h_A(u) (returned) and s_A(u) (into `point`) of eq. (2); the witness goes into `wit`.
-
-    Inlined where it is called, so that the plan picks a call with a frame of its own size:
-    with the plans' loops inside the passes' function, a call on the protocol's Delta took
-    65 ns against 42 for the same loop called alone (BENCHMARKS.md, "Stop 26")."""
-    plan = ints[ints.shape[0] - 1]
-    if plan == ELLIPSOID_HULL:
-        return _ellipsoid_hull(ints, f, u, point, wit)
-    if plan == POSED_SUM:
-        return _posed_sum(ints, f, u, point, wit)
-    return _passes(ints, f, u, point, wit)
-
-
-@borrowing
-def _passes(ints, f, u, point, wit):
-    """`support` by four passes over the tree (plan GENERAL).
 
     The blocks of `ints` are those of BLOCKS, at the offsets `blocks(nn)`. Node i reads its
     direction at f[dstart:], writes its point to f[ostart:ostart + dim] and its value to
     f[ostart + dim].
     """
+    plan = ints[ints.shape[0] - 1]
+    if plan == ELLIPSOID_HULL:
+        return _ellipsoid_hull(ints, f, u, point, wit)
+    if plan == POSED_SUM:
+        return _posed_sum(ints, f, u, point, wit)
     nn = ints[0]
     KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
         blocks(nn)

@@ -90,7 +90,7 @@ def lstsq(D, n, q, rhs, x, x0, work, wrhs):
     return True
 
 
-@borrowing(forceinline=True)
+@borrowing
 def lstsq_append(D, n, q, fact, rhs, x, work, wrhs, house):
     """`lstsq` (x at offset 0) when work and house already hold the Householder QR of D's first
     `fact` columns, left by an earlier call on the same columns: only columns fact..q-1 are

@@ -237,7 +237,7 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
     return _result(LIMIT, t, t_up, best_h, max_iter, calls, best_n, P, lam, Wt, k, 0)
 
 
-@borrowing(forceinline=True)
+@borrowing
 def _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter, nvec, v, point, wit, b, sc):
     """One ZC-based iteration (section 3.3) from b_k = t r (written to b): ZC on A - b_k toward
     r."""
