@@ -423,12 +423,14 @@ def _ellipsoid_hull(ints, f, u, point, wit):
     return best
 
 
-@borrowing(forceinline=True)
+@borrowing
 def _posed_sum(ints, f, u, point, wit):
     """`support` for the plan POSED_SUM: the root sums children x -> M x + t in R^3, each over a
     leaf. One loop over the children with the direction M^T u and the leaf's point in registers:
-    ~50 ns a call on the growth protocol's Delta (an ellipsoid and a truncated cone) against ~110
-    by the passes (benchmarks/support_plans.py). Ellipsoids with 3 axes and truncated cones are
+    ~65 ns a call on the growth protocol's Delta (an ellipsoid and a truncated cone) against ~120
+    by the passes (benchmarks/support_plans.py). A call, not inlined into `support`: inlined, it
+    changed the rounding of the passes' code next to it, and four knife-edge tests failed
+    (BENCHMARKS.md, "Stop 26"). Ellipsoids with 3 axes and truncated cones are
     evaluated in registers; other leaves (boxes, polytopes) take the passes' leaf code through
     the scratch part of `floats` (the protocol's Delta written that way for every leaf: 65 ns
     against 39 in one harness; BENCHMARKS.md, "Stop 26"). The
