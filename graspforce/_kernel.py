@@ -341,9 +341,9 @@ def _ellipsoid_hull(ints, f, u, point, wit):
     the children with the direction read from u and the best child's S^T u held in registers,
     then one point: the four passes' value, point and witnesses (the same flags and ties) at
     112 ns a call on the ingot's W_Linf lift against 189, 89 against 127 on its W_L1
-    (benchmarks/support_plans.py; BENCHMARKS.md, "Stop 25"). The passes pay for
-    what a general tree needs: each node's kind and offsets are read in every pass, and its
-    direction, value and point go through the scratch part of `floats`."""
+    (benchmarks/support_plans.py; BENCHMARKS.md, "Stop 25"). The passes pay for what a general
+    tree needs: each node's kind and offsets are read in every pass, and its direction, value
+    and point go through the scratch part of `floats`."""
     nn = ints[0]
     KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
         blocks(nn)
@@ -426,16 +426,14 @@ def _ellipsoid_hull(ints, f, u, point, wit):
 @borrowing
 def _posed_sum(ints, f, u, point, wit):
     """`support` for the plan POSED_SUM: the root sums children x -> M x + t in R^3, each over a
-    leaf. One loop over the children with the direction M^T u and the leaf's point in registers:
-    ~65 ns a call on the growth protocol's Delta (an ellipsoid and a truncated cone) against ~120
-    by the passes (benchmarks/support_plans.py). A call, not inlined into `support`: inlined, it
-    changed the rounding of the passes' code next to it, and four knife-edge tests failed
-    (BENCHMARKS.md, "Stop 26"). Ellipsoids with 3 axes and truncated cones are
-    evaluated in registers; other leaves (boxes, polytopes) take the passes' leaf code through
-    the scratch part of `floats` (the protocol's Delta written that way for every leaf: 65 ns
-    against 39 in one harness; BENCHMARKS.md, "Stop 26"). The
-    ellipsoid's arithmetic is `_ellipsoid_3_3_value` and `_point` fused, because every leaf of a
-    sum is active: the passes split them so that a hull pays for its chosen child's point only."""
+    leaf (`plan_of` checked that every leaf is 3-D). One loop over the children with the
+    direction M^T u and the leaf's point in registers (timings: benchmarks/support_plans.py;
+    BENCHMARKS.md, "Stop 26"). Ellipsoids with 3 axes and truncated cones are evaluated in
+    registers; other leaves (boxes, polytopes) take the passes' leaf code through the scratch
+    part of `floats` (the protocol's Delta written that way for every leaf: 65 ns against 39 in
+    one harness). The ellipsoid's arithmetic is `_ellipsoid_3_3_value` and `_point` fused,
+    because every leaf of a sum is active: the passes split them so that a hull pays for its
+    chosen child's point only."""
     nn = ints[0]
     KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN = \
         blocks(nn)
@@ -456,7 +454,7 @@ def _posed_sum(ints, f, u, point, wit):
         p = ints[PSTART + leaf]
         w = ints[WSTART + leaf]
         wit[w] = 1.0
-        if k == ELLIPSOID and f[p] == 3.0 and f[p + 1] == 3.0:
+        if k == ELLIPSOID and f[p + 1] == 3.0:
             s = p + 5                       # n, k, c (3), then S (3, 3) row-major
             y0 = f[s] * v0 + f[s + 3] * v1 + f[s + 6] * v2
             y1 = f[s + 1] * v0 + f[s + 4] * v1 + f[s + 7] * v2

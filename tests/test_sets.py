@@ -332,8 +332,8 @@ def test_posed_sums_take_one_loop_that_matches_the_general_passes():
     leaves = [gf.Ellipsoid(*random_ellipsoid(rng, 3, 3)), gf.Ball(np.zeros(3), 0.7),
               gf.TruncatedCone(0.6, 0.2, 1.1), gf.TruncatedCone(0.5, 0.0, 0.8),
               gf.TruncatedCone(0.4, 0.4, 1.5), gf.Box([0.3, 0.5, 0.7]),
-              gf.Polytope(rng.standard_normal((12, 3))), gf.Ellipsoid(*random_ellipsoid(rng, 3, 2)),
-              gf.ConeCap(0.5, 3)]
+              gf.Polytope(rng.standard_normal((12, 3))),
+              gf.Ellipsoid(*random_ellipsoid(rng, 3, 2)), gf.ConeCap(0.5, 3)]
     for i, A in enumerate(leaves):
         B = leaves[(i + 2) % len(leaves)]
         R_a, R_b = random_rotation(rng, 3), random_rotation(rng, 3)
