@@ -9,7 +9,7 @@ recursion it is exact in any dimension and never enumerates sub-simplices.
 import numpy as np
 
 from ._jit import borrowing
-from ._linalg import lstsq_append
+from ._linalg import lstsq, lstsq_append
 
 
 @borrowing(forceinline=True)
@@ -62,6 +62,25 @@ def reproduce(P, x, k, b):
     for j in range(k):
         x[j] /= s
     return True
+
+
+@borrowing
+def weights_on_ray(S, m, r, x, D, work, wrhs, rhs):
+    """Weights x[:m] (summing to 1) and t (returned) of the point of CH(S[:m]) nearest the ray,
+    by least squares: S_0 + sum_p x_p (S_p - S_0) = t r. -1 when rank deficient."""
+    n = r.shape[0]
+    for i in range(n):
+        for p in range(1, m):
+            D[i, p - 1] = S[p, i] - S[0, i]
+        D[i, m - 1] = -r[i]
+        rhs[i] = -S[0, i]
+    if not lstsq(D, n, m, rhs, x, 1, work, wrhs):
+        return -1.0
+    t = x[m]
+    x[0] = 1.0
+    for p in range(1, m):
+        x[0] -= x[p]
+    return t
 
 
 @borrowing

@@ -11,11 +11,20 @@ from ._shooters import (BI_GJK, GJK_BASED, HIT, IE, LIMIT, WITH_IE, WITH_NEWTON,
 def shoot(ints, floats, r, ws, method, eps, max_iter):
     """Dispatch on the method code: one call from Python, one compilation for all."""
     if method == IE:
-        return ie(ints, floats, r, ws, eps, max_iter)
-    if method == ZC_IE:
-        return zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE)
-    if method == ZC_IE_NEWTON:
-        return zc_family(ints, floats, r, ws, eps, max_iter, WITH_NEWTON)
+        out = ie(ints, floats, r, ws, eps, max_iter)
+    elif method == ZC_IE:
+        out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE)
+    elif method == ZC_IE_NEWTON:
+        out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_NEWTON)
+    else:
+        out = _distance_based(ints, floats, r, ws, method, eps, max_iter)
+    # GJK-based's own stalls are its finish's (ZC's): walking the ray again would repeat them
+    return out if method == GJK_BASED else unstall(ints, floats, r, ws, eps, max_iter, out)
+
+
+@njit(cache=True)
+def _distance_based(ints, floats, r, ws, method, eps, max_iter):
+    """GJK-based, Bi-GJK or ZC-based, finished by IE steps where they stall or stop above eps."""
     if method == GJK_BASED:
         out = gjk_based(ints, floats, r, ws, eps, max_iter)
     elif method == BI_GJK:
@@ -38,6 +47,23 @@ def shoot(ints, floats, r, ws, method, eps, max_iter):
         if fin[0] == HIT and fin[2] - fin[1] <= eps * fin[1]:
             return _handed_over(out, fin)
     return _handed_over(out, ie(ints, floats, r, ws, eps, max_iter))
+
+
+@njit(cache=True)
+def unstall(ints, floats, r, ws, eps, max_iter, out):
+    """`out`, or where it is a stall (a LIMIT short of max_iter: zc_from), GJK-based's answer
+    when that one is certified. ZC's cone from b_k loses rank where the ray runs along a flat
+    or thin part of A: W_Linf's lift for a doubled point contact and a wrench 1e-9 inside its
+    friction cone (a 3-D set in R^7), two point contacts at a corner of W. ZC-based steps then
+    stall with the bracket open, and IE and ZC-IE, which hand over to them, with them; GJK's
+    simplex, walking down the ray from outside, does not lose rank there (and where GJK-based
+    stops short, IE steps from its facet may not: `_distance_based`)."""
+    if not (out[0] == LIMIT and out[4] < max_iter):
+        return out
+    fin = _distance_based(ints, floats, r, ws, GJK_BASED, eps, max_iter - out[4])
+    if fin[0] != LIMIT:
+        return _handed_over(out, fin)
+    return _handed_over(fin, out)
 
 
 @njit(cache=True)

@@ -31,7 +31,7 @@ from numba import njit
 
 from ._jit import borrowing
 from ._kernel import ELLIPSOID, HULL, blocks, support
-from ._corral import drop_point, reproduce
+from ._corral import drop_point, reproduce, weights_on_ray
 from ._linalg import (basic_null_space, dot, lstsq, lu_factor, lu_solve, smallest,
                       solve_basic)
 from ._piece import (FLAT, KINK, TRUNCATED_CONE, flat_columns, flat_radius2, jacobian_size,
@@ -176,25 +176,6 @@ def _solve_kkt(r, u, t, tau, lam, S, JJ, m, T, y, nf, ny, fpiece, foff, fq, sm, 
         lu_solve(lu, prow, N, rhs, dx)
         return True
     return solve_basic(K, N, lu, prow, pcol, rhs, dx) > n
-
-
-@borrowing
-def _weights_on_ray(S, m, r, x, D, work, wrhs, rhs):
-    """Weights x[:m] (summing to 1) and t (returned) of the point of CH(S[:m]) nearest the ray,
-    by least squares: S_0 + sum_p x_p (S_p - S_0) = t r. -1 when rank deficient."""
-    n = r.shape[0]
-    for i in range(n):
-        for p in range(1, m):
-            D[i, p - 1] = S[p, i] - S[0, i]
-        D[i, m - 1] = -r[i]
-        rhs[i] = -S[0, i]
-    if not lstsq(D, n, m, rhs, x, 1, work, wrhs):
-        return -1.0
-    t = x[m]
-    x[0] = 1.0
-    for p in range(1, m):
-        x[0] -= x[p]
-    return t
 
 
 @njit(cache=True)
@@ -360,7 +341,7 @@ def newton_finish(ints, f, r, eps, P, Wt, lam, k, normal, t, corner):
                     for b in range(local_size(ints[KIND + fleaf[e]], f, ints[PSTART + fleaf[e]])):
                         PW[p, w + 1 + b] *= inv
                     piece_support(ints, f, u, PW[p], S[p], WS[p], JJ[p], jw, nmax)
-            tz = _weights_on_ray(S, m, r, lm, K, lu, dx, rhs)
+            tz = weights_on_ray(S, m, r, lm, K, lu, dx, rhs)
             if tz <= 0.0 or smallest(lm, m) < -1e-12:
                 return _failed(t, np.inf, 0.0, steps, calls, nrm, S, lm, WS)
             for i in range(n):

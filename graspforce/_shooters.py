@@ -15,7 +15,7 @@ Tolerance: every stopping rule is relative, (h_A(n) - n^T z) <= eps * n^T z, i.e
 import numpy as np
 from numba import njit
 
-from ._corral import drop_point, reproduce, residual2, set_row
+from ._corral import drop_point, reproduce, residual2, set_row, weights_on_ray
 from ._distance import CONVERGED, INSIDE, MAX_ITER, STALLED, gjk, scratch, zc
 from ._jit import borrowing
 from ._kernel import support
@@ -127,25 +127,35 @@ def _miss(ints, floats, r, ws, eps, iters, calls, max_iter):
 
 
 @borrowing
-def _on_ray(P, k, b, x, tol, sc):
-    """Barycentric weights x of b in CH(P[:k]) if b lies there (the improved stopping rule of
-    Fig. 3b: the ray meets CH(V_A(b_k))); False otherwise. sc: `scratch(n)`."""
+def _on_ray(P, k, r, t, eps, x, tol, sc):
+    """Fig. 3b's improved stopping rule, the ray meets CH(V_A(b_k)): returns where, t' with
+    barycentric weights x[:k] of t' r in CH(P[:k]), or -1. t' and the weights are solved
+    together, P_0 + sum_j x_j (P_j - P_0) = t' r, so that t' r is in the hull to rounding: eq.
+    (4)'s t = t_k - d_A(b_k) / n^T r carries the rounding of d_A(b_k), which put t r 1e-12
+    (relative) outside an 8-D facet the least squares then still accepted. A ray along the
+    face (the joint system is singular), or a t' more than eps from t, keeps eq. (4)'s t.
+    sc: `scratch(n)`."""
     n = P.shape[1]
     D, work, rhs, wrhs, _, _ = sc
-    for i in range(n):
-        rhs[i] = b[i] - P[0, i]
+    tj = weights_on_ray(P, k, r, x, D, work, wrhs, rhs)
+    if not (tj > 0.0 and abs(tj - t) <= eps * t):
+        tj = t
+        for i in range(n):
+            rhs[i] = t * r[i] - P[0, i]
+            for j in range(1, k):
+                D[i, j - 1] = P[j, i] - P[0, i]
+        if not lstsq(D, n, k - 1, rhs, x, 1, work, wrhs):
+            return -1.0
+        s = 1.0
         for j in range(1, k):
-            D[i, j - 1] = P[j, i] - P[0, i]
-    if not lstsq(D, n, k - 1, rhs, x, 1, work, wrhs):
-        return False
-    s = 1.0
-    for j in range(1, k):
-        s -= x[j]
-    x[0] = s
+            s -= x[j]
+        x[0] = s
     for j in range(k):
         if x[j] < -tol:
-            return False
-    return reproduce(P, x, k, b)
+            return -1.0
+    for i in range(n):
+        rhs[i] = tj * r[i]
+    return tj if reproduce(P, x, k, rhs) else -1.0
 
 
 @njit(cache=True)
@@ -203,6 +213,13 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
             # Done if the last supporting hyperplane certifies it; else GJK has reached its
             # numerical floor (ingot W_L1: 255 of 300 rays).
             if t_up - t <= eps * t:
+                # GJK's weights reproduce b only to its distance floor: on a face, solve
+                # again with t free, as Fig. 3b's rule does
+                t_ray = _on_ray(P, k, r, t, eps, x, 1e-12, sc) if k <= n else -1.0
+                if t_ray > 0.0:
+                    t = t_ray
+                    for j in range(k):
+                        lam[j] = x[j]
                 return _result(HIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
             return _finish_inside(ints, floats, r, ws, eps, max_iter, t, P, Wt, lam, k, it + 1,
                                   calls)
@@ -229,10 +246,11 @@ def gjk_based(ints, floats, r, ws, eps, max_iter):
             best_h = h
         step = (t - t_next) / t_next if t_next > 0.0 else 0.0
         t = t_next
-        if exact and st == CONVERGED and _on_ray(P, k, t * r, x, 1e-12, sc):
+        t_ray = _on_ray(P, k, r, t, eps, x, 1e-12, sc) if exact and st == CONVERGED else -1.0
+        if t_ray > 0.0:
             for j in range(k):
                 lam[j] = x[j]
-            return _result(HIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
+            return _result(HIT, t_ray, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0)
         eps_gjk = max(eps, INEXACT_GJK * step * step)
     return _result(LIMIT, t, t_up, best_h, max_iter, calls, best_n, P, lam, Wt, k, 0)
 
@@ -844,8 +862,11 @@ def bi_gjk_from(ints, floats, r, ws, eps, max_iter, t_lo, P, Wt, lam, k, u, call
         if rn <= 0.0:
             continue
         t_b = tm - d / rn
-        if st == CONVERGED and t_b > t_lo and _on_ray(P, k, t_b * r, x, 1e-12, sc):
-            t_lo = t_b
+        t_ray = -1.0
+        if st == CONVERGED and t_b > t_lo:
+            t_ray = _on_ray(P, k, r, t_b, eps, x, 1e-12, sc)
+        if t_ray > t_lo:
+            t_lo = t_ray
             kz = _keep(P, Wt, x, k, Pz, Wz, lz)
     return _result(LIMIT, t_lo, t_up, best_h, max_iter, calls, best_n, Pz, lz, Wz, kz, 0)
 

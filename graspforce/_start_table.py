@@ -33,7 +33,7 @@ import numpy as np
 from numba import njit
 from scipy.spatial import ConvexHull, QhullError
 
-from ._dispatch import shoot
+from ._dispatch import shoot, unstall
 from ._ie import ie_from
 from ._jit import borrowing
 from ._kernel import params_size
@@ -265,9 +265,12 @@ def shoot_with_table(ints, floats, r, ws, method, eps, max_iter, table):
         t = table_start(table, floats, r, P, Wt, lam, y, B, np.empty(int(table[0])))
         if t > 0.0:
             if method == BI_GJK:
-                return bi_gjk_from(ints, floats, r, ws, eps, max_iter, t, P, Wt, lam, n, y, 0)
-            if method == IE:
-                return ie_from(ints, floats, r, ws, eps, max_iter, P, Wt, 0, 0)
-            mode = WITH_IE if method == ZC_IE else WITH_NEWTON
-            return zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, n, 0, 0, B)
+                out = bi_gjk_from(ints, floats, r, ws, eps, max_iter, t, P, Wt, lam, n, y, 0)
+            elif method == IE:
+                out = ie_from(ints, floats, r, ws, eps, max_iter, P, Wt, 0, 0)
+            else:
+                mode = WITH_IE if method == ZC_IE else WITH_NEWTON
+                out = zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, n, 0, 0,
+                              B)
+            return unstall(ints, floats, r, ws, eps, max_iter, out)
     return shoot(ints, floats, r, ws, method, eps, max_iter)

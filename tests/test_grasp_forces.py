@@ -340,6 +340,25 @@ def test_single_and_doubled_contact_closed_form(mu, mu_spin, f, method):
             assert np.allclose(res.forces.sum(axis=0), f, rtol=0, atol=1e-8 * true)
 
 
+@pytest.mark.parametrize("method", gf.METHODS)
+def test_every_method_leaves_the_lift_of_a_doubled_point_contact(method):
+    # W_Linf's lift of two copies of one point contact is a 3-D set in R^7 (the lift's segment
+    # times the contact's disk of unit-normal forces) and r lies in its span: with the force
+    # 1e-9 inside the cone, z_W(r) is 1e-9 from the disk's rim, where ZC's cone from b_k loses
+    # rank. Every ZC-type method stalled there on an AMD EPYC (the test above, Linf with IE and
+    # ZC-IE); GJK-based steps finish it (graspforce._dispatch.unstall). Closed form: each copy
+    # carries f / 2, so t = 1 / (m sigma) = 1 / f_1 on the lift.
+    f = np.array([1.5, 0.84 * (1 - 1e-9), -0.63 * (1 - 1e-9), 0.0])
+    contact = gf.Contact([0.03, -0.02, 0.05], [0.2, -0.3, -1.0], 0.7, 0.0)
+    w = -(contact.matrix @ f)
+    lift = gf.Grasp([contact, contact])._space("Linf", "normal").target("ie").set
+    assert lift.dim == 7
+    res = gf.ray_shoot(lift, np.r_[0.0, -w], method=method)
+    assert res.status == "hit"
+    assert res.t <= 1 / f[0] * (1 + 1e-14) <= res.t_upper * (1 + 1e-14)
+    assert res.t_upper / res.t - 1 <= EPS
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_coincident_contacts(seed):
     rng = np.random.default_rng(70 + seed)
@@ -491,8 +510,10 @@ def test_answers_on_grasps_that_are_not_closure_certify_or_say_so(norm):
     # every answer is checked on the ray and Newton finishes the corners. Every lower bound
     # stays below the truth; every "optimal" answer is certified by a bound recomputed here,
     # matches the truth, and its forces lie in their cones and resist w to 1e-9. "max_iter"
-    # remains on corners that Newton does not finish (measured with "zc-ie": 4 of 60 wrenches
-    # for L1, 3 for Linf, none of them two point contacts; stop 19's note: 10 of 60 for L1).
+    # remains on corners that neither Newton nor GJK-based steps finish (measured with "zc-ie":
+    # 3 of 60 wrenches for L1, 3 for Linf, none of them two point contacts; stop 19's note: 10
+    # of 60 for L1; before the hand-over to GJK-based, 4 for L1, and on an AMD EPYC one of them
+    # two point contacts).
     from graspforce.baselines import clarabel_socp
     open_answers = 0
     for trial, grasp, lams, w, two_points in edge_of_cone_cases(60, weights_first=False):
@@ -515,7 +536,7 @@ def test_answers_on_grasps_that_are_not_closure_certify_or_say_so(norm):
             elif method == "zc-ie":
                 open_answers += 1
                 assert not two_points, (trial, res.sigma, truth)
-    assert open_answers <= {"L1": 4, "Linf": 3}[norm]
+    assert open_answers <= {"L1": 3, "Linf": 3}[norm]
 
 
 def test_corners_that_no_step_leaves_end_early():
