@@ -74,9 +74,11 @@ class GrowthDistance:
     once, and each call writes the two rotations into its support program in place.
 
     warm_start (method "zc-ie" only): each call after a certified one starts IE from support
-    points in directions spread around the previous normal (graspforce._warm) instead of ZC from
-    the origin; for a pair that moves little between calls (time coherence). The compiled query
-    keeps that memory at the end of the program's floats (graspforce._growth).
+    points in directions spread around the previous normal (graspforce._warm); for a pair that
+    moves little between calls (time coherence). Other "zc-ie" calls start from support points
+    spread around r (graspforce._growth.COLD_SPREAD); both instead of ZC from the origin, to
+    which they fall back. The compiled query keeps that memory at the end of the program's
+    floats (graspforce._growth).
     """
 
     def __init__(self, A, B, method="zc-ie", eps=1e-9, max_iter=10000, touching_tol=1e-9,

@@ -339,6 +339,26 @@ def test_warm_start_on_a_moving_pair():
     assert saved > 0
 
 
+def test_probes_whose_facet_misses_the_ray_fall_back_to_zc_from_the_origin():
+    # "zc-ie" queries, warm and cold, start IE on the facet of support points spread around a
+    # guessed normal (graspforce._warm). Around -r the ray never crosses that facet (every
+    # probe point is behind the origin), so the spread is widened WIDENINGS times and ZC-IE
+    # starts from the origin: a plain ZC-IE shot's answer, for the probes' support calls more.
+    from graspforce._dispatch import shoot
+    from graspforce._shooters import HIT, ZC_IE
+    from graspforce._warm import WIDENINGS, shoot_warm
+    pair = PAIRS[0]
+    solver = gf.GrowthDistance(*shapes(pair, 1.0), warm_start=False)
+    solver((pair["R_e"], pair["p_e"]), (pair["R_c"], pair["p_c"]))  # Delta at these poses
+    ints, floats, ws = solver._ints, solver._floats, solver.delta.witness_size
+    r = np.ascontiguousarray(pair["p_c"] - pair["p_e"], dtype=float)
+    plain = shoot(ints, floats, r, ws, ZC_IE, 1e-9, 1000)
+    probed = shoot_warm(ints, floats, r, ws, 1e-9, 1000, -r / np.linalg.norm(r), 0.05)
+    assert plain[0] == probed[0] == HIT
+    assert (probed[1], probed[2]) == (plain[1], plain[2])
+    assert probed[5] == plain[5] + 3 * WIDENINGS
+
+
 def _rot_z(th):
     return np.array([[np.cos(th), -np.sin(th), 0], [np.sin(th), np.cos(th), 0], [0, 0, 1]])
 
