@@ -128,7 +128,9 @@ def query(ints, floats, R_a, p_a, R_b, p_b, packed):
     c = floats.shape[0] - TAIL
     ma = int(floats[c + MA])
     mb = int(floats[c + MB])
-    r = np.empty(3)
+    # r and its direction: one allocation
+    ray = np.empty((2, 3))
+    r = ray[0]
     rr = 0.0
     for a in range(3):
         for b in range(3):
@@ -157,7 +159,9 @@ def query(ints, floats, R_a, p_a, R_b, p_b, packed):
         out = shoot_warm(ints, floats, r, ws, eps, max_iter, normal, floats[c + SPREAD])
     elif method == ZC_IE:
         rn = 1.0 / np.sqrt(rr)
-        out = shoot_warm(ints, floats, r, ws, eps, max_iter, r * rn, COLD_SPREAD)
+        for a in range(3):
+            ray[1, a] = r[a] * rn
+        out = shoot_warm(ints, floats, r, ws, eps, max_iter, ray[1], COLD_SPREAD)
     else:
         out = shoot(ints, floats, r, ws, method, eps, max_iter)
     status, t, t_up, h_n, iterations, calls, singular, k = pack(out, packed, FRAME)

@@ -439,8 +439,16 @@ def _zc_from_of(fixed_n):
         """`zc_from` (its docstring), with n = r's dimension fixed or passed."""
         use_ie = mode == WITH_IE or mode == WITH_NEWTON
         singular = 0
-        P = np.empty((n + 2, n))
-        Wt = np.empty((n + 2, ws))
+        # the simplex, the n-vectors and the n x n matrices as rows of few allocations: a shot
+        # of a few microseconds felt each of its ~40 allocations (~25 ns each)
+        rows = np.empty((n + 10, n))
+        P = rows[:n + 2]
+        nvec, v, point, ones, y, gam, alpha, b = (rows[n + 2], rows[n + 3], rows[n + 4],
+                                                  rows[n + 5], rows[n + 6], rows[n + 7],
+                                                  rows[n + 8], rows[n + 9])
+        witnesses = np.empty((n + 3, ws))
+        Wt = witnesses[:n + 2]
+        wit = witnesses[n + 2]
         lam = np.empty(n + 2)
         _keep(Pz, Wz, lz, kz, P, Wt, lam)     # element loops, not slices (`_keep`)
         sc = scratch(n)
@@ -448,15 +456,9 @@ def _zc_from_of(fixed_n):
             k = kz            # a warm-start facet (graspforce._warm): IE steps from it at once
         else:
             k = _restart(P, Wt, lam, kz, r, sc) if kz > 0 else 0
-        # the n-vectors and n x n matrices as rows of two allocations: a shot of a few
-        # microseconds felt each of its ~40 allocations (~25 ns each)
-        vectors = np.empty((8, n))
-        nvec, v, point, ones, y, gam, alpha, b = (vectors[0], vectors[1], vectors[2], vectors[3],
-                                                  vectors[4], vectors[5], vectors[6], vectors[7])
         ones[:] = 1.0
         matrices = np.empty((3, n, n))
         M, lu, B = matrices[0], matrices[1], matrices[2]
-        wit = np.empty(ws)
         piv = np.empty(n, np.int64)
         age = -1
         if use_ie and kz == n and inverse.shape[0] == n:

@@ -22,24 +22,23 @@ def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
     `normal`, widened while the ray misses that facet, then cold ZC-IE. Same result tuple as
     `shoot`."""
     n = r.shape[0]
+    # rows of few allocations, as in zc_from
+    rows = np.empty((n + 7, n))
+    P = rows[:n + 2]
+    v, d, w, point, gam = rows[n + 2], rows[n + 3], rows[n + 4], rows[n + 5], rows[n + 6]
+    witnesses = np.empty((n + 3, ws))
+    Wt = witnesses[:n + 2]
+    wit = witnesses[n + 2]
+    lam = np.empty(n + 2)
+    matrices = np.empty((2, n, n))
+    M, lu = matrices[0], matrices[1]
+    piv = np.empty(n, np.int64)
     # Householder reflection taking (1, ..., 1)/sqrt(n) to the normal: it maps the simplex
     # e_j - 1/n, orthogonal to (1, ..., 1), into the normal's orthogonal plane
-    v = np.empty(n)
     vv = 0.0
     for a in range(n):
         v[a] = 1.0 / np.sqrt(n) - normal[a]
         vv += v[a] * v[a]
-    P = np.empty((n + 2, n))
-    Wt = np.empty((n + 2, ws))
-    lam = np.empty(n + 2)
-    d = np.empty(n)
-    w = np.empty(n)
-    point = np.empty(n)
-    wit = np.empty(ws)
-    M = np.empty((n, n))
-    lu = np.empty((n, n))
-    piv = np.empty(n, np.int64)
-    gam = np.empty(n)
     calls = 0
     # a wider spread when the ray misses the facet: the pose moved more than expected
     for attempt in range(WIDENINGS):
@@ -70,8 +69,9 @@ def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
                 t = 1.0 / gam.sum()
                 for j in range(n):
                     lam[j] = gam[j] * t
+                # no facet inverse to hand over: an empty view, not an allocation
                 return zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, t, P, Wt, lam, n,
-                               0, calls, np.empty((0, 0)))
+                               0, calls, M[:0])
         spread *= 4.0
     out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE)
     return (out[0], out[1], out[2], out[3], out[4], out[5] + calls, out[6], out[7], out[8],
