@@ -42,8 +42,9 @@ def _distance_based(ints, floats, r, ws, method, eps, max_iter):
     # 116 -> 102), else, or if that fails too, from scratch, so that "hit" always means
     # certified to eps. The hand-over counts as a singular step.
     if out[7].shape[0] == r.shape[0]:
+        none = np.empty((0, 0))
         fin = zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, out[1], out[7], out[9],
-                      out[8], r.shape[0], 0, 0, np.empty((0, 0)))
+                      out[8], r.shape[0], 0, 0, none, none)
         if fin[0] == HIT and fin[2] - fin[1] <= eps * fin[1]:
             return _handed_over(out, fin)
     return _handed_over(out, ie(ints, floats, r, ws, eps, max_iter))

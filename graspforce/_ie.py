@@ -106,8 +106,9 @@ def ie(ints, floats, r, ws, eps, max_iter):
     n = r.shape[0]
     # initialization shared with ZC-IE: ZC-based iterations until V_k is a facet crossed by the
     # ray in its interior (a flat set never has one: ZC-based then finishes the job)
+    none = np.empty((0, 0))
     out = zc_from(ints, floats, r, ws, eps, max_iter, UNTIL_FACET, 0.0, np.empty((n + 2, n)),
-                  np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0, np.empty((0, 0)))
+                  np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0, none, none)
     if out[0] != FACET:
         return out
     return ie_from(ints, floats, r, ws, eps, max_iter, out[7], out[9], out[4], out[5])
@@ -315,5 +316,5 @@ def _from_facet(ints, floats, r, ws, eps, max_iter, t, pool, pwit, facet, gam, i
     Pz[:k] = V
     Wz[:k] = W
     lz[:k] = lam
-    return zc_from(ints, floats, r, ws, eps, max_iter, 0, t, Pz, Wz, lz, k, it, calls,
-                   np.empty((0, 0)))
+    none = np.empty((0, 0))
+    return zc_from(ints, floats, r, ws, eps, max_iter, 0, t, Pz, Wz, lz, k, it, calls, none, none)

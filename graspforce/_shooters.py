@@ -271,6 +271,13 @@ REFACTOR = 64   # IE steps between fresh factorizations of the facet matrix
 # NEWTON_RETRY
 NEWTON_GAP = 0.1
 NEWTON_RETRY = 1e-2
+# the secant query (ZC-IE from a facet whose points' support directions are known: `zc_from`'s
+# `directions`): a secant point must keep at least SECANT_HOLD of the weight of t r in the next
+# facet, else SECANT_REST plain IE steps follow before the next try. Measured on the growth
+# protocol and on random pairs (BENCHMARKS.md, "Stop 28"): 0.9 and 4 (support calls, protocol
+# median 26 -> 19); 0.5 or 1 step of rest tried secant queries on flat pieces too often
+SECANT_HOLD = 0.9
+SECANT_REST = 4
 
 
 @borrowing(forceinline=True)
@@ -425,8 +432,9 @@ def zc_family(ints, floats, r, ws, eps, max_iter, mode):
     iterations, and plain IE steps whenever V_k has n points (a facet the ray crosses inside);
     with mode WITH_NEWTON, ZC-IE with the Newton finish (graspforce._newton)."""
     n = r.shape[0]
+    none = np.empty((0, 0))
     return zc_from(ints, floats, r, ws, eps, max_iter, mode, 0.0, np.empty((n + 2, n)),
-                   np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0, np.empty((0, 0)))
+                   np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0, none, none)
 
 
 def _zc_from_of(fixed_n):
@@ -435,7 +443,7 @@ def _zc_from_of(fixed_n):
     then passed last)."""
     @njit(cache=True)
     def zc_from_n(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls, inverse,
-                  n=fixed_n):
+                  directions, n=fixed_n):
         """`zc_from` (its docstring), with n = r's dimension fixed or passed."""
         use_ie = mode == WITH_IE or mode == WITH_NEWTON
         singular = 0
@@ -457,10 +465,19 @@ def _zc_from_of(fixed_n):
         else:
             k = _restart(P, Wt, lam, kz, r, sc) if kz > 0 else 0
         ones[:] = 1.0
-        matrices = np.empty((3, n, n))
-        M, lu, B = matrices[0], matrices[1], matrices[2]
+        matrices = np.empty((4, n, n))
+        M, lu, B, D = matrices[0], matrices[1], matrices[2], matrices[3]
         piv = np.empty(n, np.int64)
         age = -1
+        # the secant query needs every facet point's support direction (D's rows): known from
+        # the caller's facet, kept by IE steps, lost to any other step
+        secant = mode == WITH_IE and kz == n and directions.shape[0] >= n
+        if secant:
+            for j in range(n):
+                for i in range(n):
+                    D[j, i] = directions[j, i]
+        rest = 0          # plain IE steps before the next secant query
+        last = -1         # the facet row the last secant point went to (-1: none to judge)
         if use_ie and kz == n and inverse.shape[0] == n:
             # the table's inverse of its facet: IE's first step factors nothing
             for i in range(n):
@@ -519,18 +536,54 @@ def _zc_from_of(fixed_n):
                     ny = np.sqrt(dot(y, y))
                     # one division, not n: the direction needs to be y's only to rounding
                     iny = 1.0 / ny
-                    for i in range(n):
-                        nvec[i] = y[i] * iny
-                    h = support(ints, floats, nvec, point, wit)
-                    calls += 1
+                    query_secant = False
+                    if secant:
+                        # the last secant point, judged by its weight in this facet's t r
+                        if last >= 0 and gam[last] * t < SECANT_HOLD:
+                            rest = SECANT_REST
+                        last = -1
+                        if rest > 0:
+                            rest -= 1
+                        else:
+                            query_secant = True
+                    h = 0.0
+                    closed = False
+                    if query_secant:
+                        # the secant query (docs/core-api.md): the support map's linear model
+                        # through the facet, s(d_j) = P_j, puts s(sum_j gam_j d_j) at t r
+                        for i in range(n):
+                            v[i] = 0.0
+                        for j in range(n):
+                            for i in range(n):
+                                v[i] += gam[j] * D[j, i]
+                        nv = np.sqrt(dot(v, v))
+                        if nv > 0.0:
+                            for i in range(n):
+                                nvec[i] = v[i] / nv
+                            h = support(ints, floats, nvec, point, wit)
+                            calls += 1
+                            nr = dot(nvec, r)
+                            closed = nr > 0.0 and h - t * nr <= eps * (t * nr)
+                        if not closed and not (nv > 0.0 and dot(y, point) - 1.0 > eps):
+                            # neither a bound nor new ground (a flat piece: the model's point
+                            # is a vertex): IE's query after all
+                            rest = SECANT_REST
+                            query_secant = False
+                    if not query_secant:
+                        for i in range(n):
+                            nvec[i] = y[i] * iny
+                        h = support(ints, floats, nvec, point, wit)
+                        calls += 1
+                        closed = h - 1.0 / ny <= eps * (1.0 / ny)
                     it += 1
-                    if h - 1.0 / ny <= eps * (1.0 / ny) and fresh_only:
+                    if closed and fresh_only:
                         for j in range(n):
                             lam[j] = gam[j] * t
                         kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
-                        return _result(HIT, t, h * ny / yr, h, it, calls, nvec, Pz, lz, Wz, kz,
+                        t_up = h / dot(nvec, r) if query_secant else h * ny / yr
+                        return _result(HIT, t, t_up, h, it, calls, nvec, Pz, lz, Wz, kz,
                                        singular)
-                    if h - 1.0 / ny <= eps * (1.0 / ny):
+                    if closed:
                         # certify: the normal and h_A(n) already evaluated bound t from above
                         # whatever n is; from below, t r must be the convex combination gam / sum(gam)
                         # of the facet's points, checked by its residual (the updated inverse's
@@ -623,6 +676,11 @@ def _zc_from_of(fixed_n):
                         continue
                     set_row(P, Wt, js, point, wit)
                     changed = js
+                    if secant:
+                        for i in range(n):
+                            D[js, i] = nvec[i]
+                        if query_secant:
+                            last = js
                     if not fresh_only and alpha[js] > 1e-8 * amax:
                         _pivot(B, n, alpha, js, y, gam)
                         age += 1
@@ -631,6 +689,7 @@ def _zc_from_of(fixed_n):
                     continue
             age = -1
             changed = -1
+            secant = False
             st, k, d, h, zi, zcalls = _zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter,
                                                nvec, v, point, wit, b, sc)
             calls += zcalls
@@ -701,14 +760,17 @@ _zc_from_9 = _zc_from_of(9)
 
 
 @njit(cache=True)
-def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls, inverse):
+def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls, inverse,
+            directions):
     """ZC-based iterations from b = t r in A, the convex combination lz of Pz[:kz] (t = 0,
     kz = 0: from the origin, which first decides whether the ray meets A; kz = n with WITH_IE: a
     facet the ray crosses, where IE steps start). mode: ZC_ONLY
     (section 3.3), WITH_IE (ZC-IE, section 3.4.2: plain IE steps while V_k is a facet),
     WITH_NEWTON (ZC-IE with the Newton finish) or UNTIL_FACET (return FACET with V_k as soon as
     it is a facet: IE's initialization). inverse: [Pz_0 .. Pz_{n-1}]^{-1} when it is known (a
-    start table's facet, graspforce._start_table), else a 0 x 0 array. Runs the version
+    start table's facet, graspforce._start_table), else a 0 x 0 array. directions: with WITH_IE
+    and kz = n, the unit directions whose support points Pz[:kz] are (graspforce._warm's probes),
+    which turn on the secant query (docs/core-api.md), else a 0 x 0 array. Runs the version
     compiled for r's dimension (`_zc_from_of`)."""
     n = r.shape[0]
     # callers pass constants (the mode, zero counts), which Numba types as literals and would
@@ -717,15 +779,15 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
     mode_, kz_, it_, calls_ = mode + 0, kz + 0, it + 0, calls + 0
     if n == 6:
         return _zc_from_6(ints, floats, r, ws, eps, max_iter, mode_, t, Pz, Wz, lz, kz_, it_,
-                          calls_, inverse)
+                          calls_, inverse, directions)
     if n == 3:
         return _zc_from_3(ints, floats, r, ws, eps, max_iter, mode_, t, Pz, Wz, lz, kz_, it_,
-                          calls_, inverse)
+                          calls_, inverse, directions)
     if n == 9:
         return _zc_from_9(ints, floats, r, ws, eps, max_iter, mode_, t, Pz, Wz, lz, kz_, it_,
-                          calls_, inverse)
+                          calls_, inverse, directions)
     return _zc_from_any(ints, floats, r, ws, eps, max_iter, mode_, t, Pz, Wz, lz, kz_, it_,
-                        calls_, inverse, n)
+                        calls_, inverse, directions, n)
 
 
 @borrowing
@@ -768,8 +830,9 @@ def _finish_inside(ints, floats, r, ws, eps, max_iter, t, P, Wt, lam, k, it, cal
     rays, which the dispatcher's IE then redid from scratch; Bi-GJK's mean support calls
     181 -> 131.)"""
     mode = WITH_IE if k == r.shape[0] else ZC_ONLY
-    return zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, k, it, calls,
-                   np.empty((0, 0)))
+    none = np.empty((0, 0))
+    return zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, k, it, calls, none,
+                   none)
 
 
 @njit(cache=True)

@@ -271,6 +271,6 @@ def shoot_with_table(ints, floats, r, ws, method, eps, max_iter, table):
             else:
                 mode = WITH_IE if method == ZC_IE else WITH_NEWTON
                 out = zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, n, 0, 0,
-                              B)
+                              B, B[:0])
             return unstall(ints, floats, r, ws, eps, max_iter, out)
     return shoot(ints, floats, r, ws, method, eps, max_iter)

@@ -23,9 +23,11 @@ def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
     `shoot`."""
     n = r.shape[0]
     # rows of few allocations, as in zc_from
-    rows = np.empty((n + 7, n))
+    rows = np.empty((2 * n + 7, n))
     P = rows[:n + 2]
     v, d, w, point, gam = rows[n + 2], rows[n + 3], rows[n + 4], rows[n + 5], rows[n + 6]
+    # the probes' unit directions: with them, IE's steps may take the secant query
+    directions = rows[n + 7:]
     witnesses = np.empty((n + 3, ws))
     Wt = witnesses[:n + 2]
     wit = witnesses[n + 2]
@@ -51,11 +53,15 @@ def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
                     vw += v[a] * w[a]
                 for a in range(n):
                     w[a] -= 2.0 * vw / vv * v[a]
+            dd = 0.0
             for a in range(n):
                 d[a] = normal[a] + spread * w[a]
+                dd += d[a] * d[a]
             support(ints, floats, d, point, wit)
+            dn = 1.0 / np.sqrt(dd)
             for a in range(n):
                 P[j, a] = point[a]
+                directions[j, a] = d[a] * dn
             for a in range(ws):
                 Wt[j, a] = wit[a]
         calls += n
@@ -71,7 +77,7 @@ def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
                     lam[j] = gam[j] * t
                 # no facet inverse to hand over: an empty view, not an allocation
                 return zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, t, P, Wt, lam, n,
-                               0, calls, M[:0])
+                               0, calls, M[:0], directions)
         spread *= 4.0
     out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE)
     return (out[0], out[1], out[2], out[3], out[4], out[5] + calls, out[6], out[7], out[8],

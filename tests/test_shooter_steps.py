@@ -1,14 +1,16 @@
 """The shooters' step helpers against closed forms and numpy: ZC-based's warm start (which point
-leaves V_k), Bi-GJK's exit from a simplex proved to hold a point of the ray, and IE's update of
-its facet's inverse, and ZC-IE compiled for one dimension against the general version."""
+leaves V_k), Bi-GJK's exit from a simplex proved to hold a point of the ray, IE's update of its
+facet's inverse, ZC-IE compiled for one dimension against the general version, and IE's secant
+query."""
 import numpy as np
 import pytest
 from scipy.optimize import nnls
 
 import graspforce as gf
 from graspforce._distance import scratch
+from graspforce._kernel import support
 from graspforce._shooters import (HIT, WITH_IE, _matvec, _pivot, _restart, _simplex_exit,
-                                  _zc_from_3, _zc_from_6, _zc_from_9, _zc_from_any)
+                                  _zc_from_3, _zc_from_6, _zc_from_9, _zc_from_any, zc_from)
 
 
 def on_ray_simplex(rng, n, k, r):
@@ -136,9 +138,100 @@ def test_zc_ie_compiled_for_its_dimension_agrees_with_the_general_version(n, ver
         shots = []
         for shoot, args in ((version, ()), (_zc_from_any, (n,))):
             out = shoot(ints, floats, r, ws, eps, 10000, WITH_IE, 0.0, np.empty((n + 2, n)),
-                        np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0, np.empty((0, 0)), *args)
+                        np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0, np.empty((0, 0)),
+                        np.empty((0, 0)), *args)
             assert out[0] == HIT
             assert out[2] - out[1] <= eps * out[1]
             shots.append((out[1], out[2]))
         (t_a, up_a), (t_b, up_b) = shots
         assert t_a <= up_b * (1.0 + 1e-12) and t_b <= up_a * (1.0 + 1e-12)
+
+
+def probe_facet(A, r, spread, rng):
+    """IE's start as graspforce._warm makes it: the support points P of A in n unit directions
+    D around r (a tilted guess, so that the facet is not already at z_A(r)), the weights of the
+    ray's crossing t r = lam @ P and t; None when the ray misses the facet."""
+    ints, floats = A.program
+    n = r.shape[0]
+    guess = r / np.linalg.norm(r) + 0.2 * rng.standard_normal(n)
+    D = guess + spread * np.linalg.qr(rng.standard_normal((n, n)))[0]
+    D /= np.linalg.norm(D, axis=1)[:, None]
+    P, Wt = np.empty((n + 2, n)), np.empty((n + 2, A.witness_size))
+    for j in range(n):
+        support(ints, floats, D[j], P[j], Wt[j])
+    if np.linalg.cond(P[:n]) > 1e8:
+        return None           # two probes found one vertex of a polytope
+    gam = np.linalg.solve(P[:n].T, r)
+    if gam.min() <= 0.0:
+        return None
+    lam = np.zeros(n + 2)
+    lam[:n] = gam / gam.sum()
+    return P, Wt, lam, 1.0 / gam.sum(), D
+
+
+def shoot_from_probes(A, r, facet, directions):
+    P, Wt, lam, t, D = facet
+    ints, floats = A.program
+    none = np.empty((0, 0))
+    return zc_from(ints, floats, r, A.witness_size, 1e-9, 1000, WITH_IE, t, P.copy(), Wt.copy(),
+                   lam.copy(), r.shape[0], 0, 0, none, D if directions else none)
+
+
+@pytest.mark.parametrize("n", [3, 5])
+def test_secant_query_reaches_a_ball_in_two_steps(n):
+    """On a ball of radius rho every support direction is its point's normal, so the secant
+    query sum_j lam_j d_j (normalized) is r's direction: its support point is z = rho r / |r|
+    exactly, the next facet crosses the ray there, and the query after certifies. IE's facet
+    normals from the same facet take many more steps (the gap shrinks ~2-4x a step)."""
+    rng = np.random.default_rng(n)
+    rho = 1.7
+    A = gf.Ball(np.zeros(n), rho)
+    shots = 0
+    while shots < 10:
+        r = rng.standard_normal(n)
+        facet = probe_facet(A, r, 0.5, rng)
+        if facet is None:
+            continue
+        shots += 1
+        secant, plain = shoot_from_probes(A, r, facet, True), shoot_from_probes(A, r, facet, False)
+        truth = rho / np.linalg.norm(r)
+        for out in (secant, plain):
+            assert out[0] == HIT
+            assert out[1] <= truth * (1 + 1e-12) and truth <= out[2] * (1 + 1e-12)
+            assert out[2] - out[1] <= 1e-9 * out[1]
+        assert secant[4] <= 2 < 8 <= plain[4]
+        assert secant[5] == secant[4]          # no query fell back to the facet normal
+
+
+@pytest.mark.parametrize("n", [3, 5])
+def test_secant_query_on_flat_faces_falls_back_to_facet_normals(n):
+    """On a polytope the support map jumps between vertices, so the secant model is wrong: its
+    point is a vertex already in the facet (no new ground), and IE's query follows in the same
+    step, or a new vertex that keeps little weight (then SECANT_REST plain steps). The answer
+    is the LP's, certified, for at most two support calls more than IE's facet normals alone
+    (one, measured on these rays)."""
+    from scipy.optimize import linprog
+    rng = np.random.default_rng(10 + n)
+    V = rng.standard_normal((60, n))
+    V -= V.mean(axis=0)
+    A = gf.Polytope(V)
+    shots = 0
+    while shots < 10:
+        r = rng.standard_normal(n)
+        facet = probe_facet(A, r, 0.5, rng)
+        if facet is None:
+            continue
+        shots += 1
+        secant, plain = shoot_from_probes(A, r, facet, True), shoot_from_probes(A, r, facet, False)
+        # t* = max t s.t. t r = V^T mu, mu >= 0, sum mu = 1
+        m = V.shape[0]
+        A_eq = np.zeros((n + 1, m + 1))
+        A_eq[:n, :m], A_eq[:n, m], A_eq[n, :m] = V.T, -r, 1.0
+        lp = linprog(np.r_[np.zeros(m), -1.0], A_eq=A_eq, b_eq=np.r_[np.zeros(n), 1.0],
+                     bounds=[(0, None)] * (m + 1))
+        truth = lp.x[m]
+        for out in (secant, plain):
+            assert out[0] == HIT
+            assert out[1] <= truth * (1 + 1e-9) and truth <= out[2] * (1 + 1e-9)
+            assert out[2] - out[1] <= 1e-9 * out[1]
+        assert secant[5] <= plain[5] + 2
