@@ -570,11 +570,15 @@ def _zc_from_of(fixed_n):
                             rest = SECANT_REST
                             query_secant = False
                     if not query_secant:
+                        # h_A is positively homogeneous (eq. 2): y itself is queried, so that
+                        # the support call waits for no square root and division (IE's gap
+                        # h_A(y/|y|) |y| - 1 is h_A(y) - 1); the unit normal is made alongside
+                        h = support(ints, floats, y, point, wit)
+                        calls += 1
+                        closed = h - 1.0 <= eps
+                        h *= iny
                         for i in range(n):
                             nvec[i] = y[i] * iny
-                        h = support(ints, floats, nvec, point, wit)
-                        calls += 1
-                        closed = h - 1.0 / ny <= eps * (1.0 / ny)
                     it += 1
                     if closed and fresh_only:
                         for j in range(n):

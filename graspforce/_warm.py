@@ -11,7 +11,8 @@ import numpy as np
 from numba import njit
 
 from ._kernel import support
-from ._linalg import dot, lu_factor, lu_solve
+from ._jit import borrowing
+from ._linalg import dot, lu_factor, lu_solve, smallest
 from ._shooters import WITH_IE, zc_family, zc_from
 
 # probe rounds before the cold start; a round that misses the ray recentres the next one (same
@@ -31,20 +32,39 @@ def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
     widened when that points away from r; after WIDENINGS rounds, cold ZC-IE. Same result
     tuple as `shoot`."""
     n = r.shape[0]
-    # rows of few allocations, as in zc_from
+    # rows of few allocations, as in zc_from; the views are made in `_probe_facet`, which
+    # counts no references (graspforce._jit): here each would cost two atomic updates
     rows = np.empty((2 * n + 8, n))
+    witnesses = np.empty((n + 3, ws))
+    lam = np.empty(n + 2)
+    matrices = np.empty((2, n, n))
+    piv = np.empty(n, np.int64)
+    t, calls = _probe_facet(ints, floats, r, ws, normal, spread, rows, witnesses, lam, matrices,
+                            piv)
+    if t > 0.0:
+        # the probes' unit directions (rows[n + 8:]) turn on IE's secant query; no facet
+        # inverse to hand over: an empty view, not an allocation
+        return zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, t, rows[:n + 2],
+                       witnesses[:n + 2], lam, n, 0, calls, rows[:0], rows[n + 8:])
+    out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE)
+    return (out[0], out[1], out[2], out[3], out[4], out[5] + calls, out[6], out[7], out[8],
+            out[9], out[10])
+
+
+@borrowing
+def _probe_facet(ints, floats, r, ws, normal, spread, rows, witnesses, lam, matrices, piv):
+    """`shoot_warm`'s probe rounds: (t, support calls), t > 0 when the ray crosses the facet of
+    the probes P = rows[:n] (witnesses[:n], unit directions rows[n + 8:]) at t r = lam @ P,
+    else 0."""
+    n = r.shape[0]
     P = rows[:n + 2]
     v, d, w, point, gam, centre = (rows[n + 2], rows[n + 3], rows[n + 4], rows[n + 5],
                                    rows[n + 6], rows[n + 7])
     # the probes' unit directions: with them, IE's steps may take the secant query
     directions = rows[n + 8:]
-    witnesses = np.empty((n + 3, ws))
     Wt = witnesses[:n + 2]
     wit = witnesses[n + 2]
-    lam = np.empty(n + 2)
-    matrices = np.empty((2, n, n))
     M, lu = matrices[0], matrices[1]
-    piv = np.empty(n, np.int64)
     for a in range(n):
         centre[a] = normal[a]
     calls = 0
@@ -82,19 +102,17 @@ def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
                 M[i, j] = P[j, i]
         if lu_factor(M, n, lu, piv):
             lu_solve(lu, piv, n, r, gam)
-            if gam.min() > 0.0:
-                t = 1.0 / gam.sum()
-                for j in range(n):
-                    lam[j] = gam[j] * t
-                # no facet inverse to hand over: an empty view, not an allocation
-                return zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, t, P, Wt, lam, n,
-                               0, calls, M[:0], directions)
-            # the ray misses the facet. The secant model through the probes (the secant query
-            # of graspforce._shooters) extrapolates to the normal at z_A(r):
-            # sum_j gam_j d_j / sum_j gam_j. Centre the next probes there
             gs = 0.0
             for j in range(n):
                 gs += gam[j]
+            if smallest(gam, n) > 0.0:
+                t = 1.0 / gs
+                for j in range(n):
+                    lam[j] = gam[j] * t
+                return t, calls
+            # the ray misses the facet. The secant model through the probes (the secant query
+            # of graspforce._shooters) extrapolates to the normal at z_A(r):
+            # sum_j gam_j d_j / sum_j gam_j. Centre the next probes there
             cr = 0.0
             for a in range(n):
                 s = 0.0
@@ -110,6 +128,4 @@ def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
                 continue
         # a wider spread when that fails too: the pose moved more than expected
         spread *= 4.0
-    out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE)
-    return (out[0], out[1], out[2], out[3], out[4], out[5] + calls, out[6], out[7], out[8],
-            out[9], out[10])
+    return 0.0, calls
