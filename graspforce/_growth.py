@@ -57,7 +57,9 @@ WARM_SPREAD = 0.05     # first warm start: probes at the last normal +- this (a 
 # from the origin. Delta changes with every pose, so no start table can be kept for it; but the
 # normal at z_Delta(r) is rarely far from r, and the facet of three support points around r
 # holds the ray (protocol, 300 contact pairs, compiled shot: spread 0 (ZC) 4.1 us and 25.8 IE
-# steps, 0.05 3.8, 0.2 3.4, 0.7 3.35 and 23.4, 1.0 3.36, 2.0 3.44, 3.0 3.53)
+# steps, 0.05 3.8, 0.2 3.4, 0.7 3.35 and 23.4, 1.0 3.36, 2.0 3.44, 3.0 3.53). With IE's secant
+# query (stop 28): 0 (ZC) 3.86 us and 25.8 steps, 0.05 3.00, 0.1 2.94, 0.2 2.76, 0.5 2.70,
+# 0.7 2.69 and 18.3
 COLD_SPREAD = 0.7
 
 # the one signature of `query` (graspforce._signature)

@@ -169,12 +169,31 @@ def probe_facet(A, r, spread, rng):
     return P, Wt, lam, 1.0 / gam.sum(), D
 
 
-def shoot_from_probes(A, r, facet, directions):
-    P, Wt, lam, t, D = facet
+def secant_and_plain_shots(A, rng, count=10):
+    """(r, with the secant query, with facet normals only) for `count` random rays whose probe
+    facet holds them: ZC-IE from the same facet, its directions given or not."""
     ints, floats = A.program
+    n = A.dim
     none = np.empty((0, 0))
-    return zc_from(ints, floats, r, A.witness_size, 1e-9, 1000, WITH_IE, t, P.copy(), Wt.copy(),
-                   lam.copy(), r.shape[0], 0, 0, none, D if directions else none)
+    shots = 0
+    while shots < count:
+        r = rng.standard_normal(n)
+        facet = probe_facet(A, r, 0.5, rng)
+        if facet is None:
+            continue
+        shots += 1
+        P, Wt, lam, t, D = facet
+        secant, plain = (zc_from(ints, floats, r, A.witness_size, 1e-9, 1000, WITH_IE, t,
+                                 P.copy(), Wt.copy(), lam.copy(), n, 0, 0, none, directions)
+                         for directions in (D, none))
+        yield r, secant, plain
+
+
+def assert_certified(out, truth, tol):
+    """A hit whose bracket [t, t_upper] holds the truth (to tol) and is at most eps wide."""
+    assert out[0] == HIT
+    assert out[1] <= truth * (1 + tol) and truth <= out[2] * (1 + tol)
+    assert out[2] - out[1] <= 1e-9 * out[1]
 
 
 @pytest.mark.parametrize("n", [3, 5])
@@ -183,22 +202,11 @@ def test_secant_query_reaches_a_ball_in_two_steps(n):
     query sum_j lam_j d_j (normalized) is r's direction: its support point is z = rho r / |r|
     exactly, the next facet crosses the ray there, and the query after certifies. IE's facet
     normals from the same facet take many more steps (the gap shrinks ~2-4x a step)."""
-    rng = np.random.default_rng(n)
     rho = 1.7
     A = gf.Ball(np.zeros(n), rho)
-    shots = 0
-    while shots < 10:
-        r = rng.standard_normal(n)
-        facet = probe_facet(A, r, 0.5, rng)
-        if facet is None:
-            continue
-        shots += 1
-        secant, plain = shoot_from_probes(A, r, facet, True), shoot_from_probes(A, r, facet, False)
-        truth = rho / np.linalg.norm(r)
+    for r, secant, plain in secant_and_plain_shots(A, np.random.default_rng(n)):
         for out in (secant, plain):
-            assert out[0] == HIT
-            assert out[1] <= truth * (1 + 1e-12) and truth <= out[2] * (1 + 1e-12)
-            assert out[2] - out[1] <= 1e-9 * out[1]
+            assert_certified(out, rho / np.linalg.norm(r), 1e-12)
         assert secant[4] <= 2 < 8 <= plain[4]
         assert secant[5] == secant[4]          # no query fell back to the facet normal
 
@@ -214,26 +222,15 @@ def test_secant_query_on_flat_faces_falls_back_to_facet_normals(n):
     rng = np.random.default_rng(10 + n)
     V = rng.standard_normal((60, n))
     V -= V.mean(axis=0)
-    A = gf.Polytope(V)
-    shots = 0
-    while shots < 10:
-        r = rng.standard_normal(n)
-        facet = probe_facet(A, r, 0.5, rng)
-        if facet is None:
-            continue
-        shots += 1
-        secant, plain = shoot_from_probes(A, r, facet, True), shoot_from_probes(A, r, facet, False)
+    m = V.shape[0]
+    for r, secant, plain in secant_and_plain_shots(gf.Polytope(V), rng):
         # t* = max t s.t. t r = V^T mu, mu >= 0, sum mu = 1
-        m = V.shape[0]
         A_eq = np.zeros((n + 1, m + 1))
         A_eq[:n, :m], A_eq[:n, m], A_eq[n, :m] = V.T, -r, 1.0
         lp = linprog(np.r_[np.zeros(m), -1.0], A_eq=A_eq, b_eq=np.r_[np.zeros(n), 1.0],
                      bounds=[(0, None)] * (m + 1))
-        truth = lp.x[m]
         for out in (secant, plain):
-            assert out[0] == HIT
-            assert out[1] <= truth * (1 + 1e-9) and truth <= out[2] * (1 + 1e-9)
-            assert out[2] - out[1] <= 1e-9 * out[1]
+            assert_certified(out, lp.x[m], 1e-9)
         assert secant[5] <= plain[5] + 2
 
 
@@ -256,7 +253,5 @@ def test_probes_that_miss_the_ray_are_recentred_by_the_secant_model(n):
         guess = np.cos(np.radians(80)) * r / np.linalg.norm(r) + \
             np.sin(np.radians(80)) * side / np.linalg.norm(side)
         out = shoot_warm(ints, floats, r, A.witness_size, 1e-9, 1000, guess, 0.05)
-        truth = rho / np.linalg.norm(r)
-        assert out[0] == HIT
-        assert out[1] <= truth * (1 + 1e-12) and truth <= out[2] * (1 + 1e-12)
+        assert_certified(out, rho / np.linalg.norm(r), 1e-12)
         assert out[4] <= 2 and out[5] == 2 * n + out[4]
