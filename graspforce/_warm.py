@@ -4,22 +4,21 @@ When a query follows a similar one (an object pair that moved a little), the new
 near the old supporting hyperplane's touching point. Instead of ZC's search from the origin,
 take n support points in directions spread around the previous normal; if the ray crosses
 their facet (positive conic coordinates), IE steps start right there, with the probes'
-directions for IE's secant query (graspforce._shooters). If it misses, the same secant model
-says where the normal at z_A(r) is: the next probes are centred there.
+directions for IE's secant query (graspforce._shooters).
 """
 import numpy as np
 from numba import njit
 
 from ._kernel import support
 from ._jit import borrowing
-from ._linalg import dot, lu_factor, lu_solve, smallest
+from ._linalg import lu_factor, lu_solve, smallest
 from ._shooters import WITH_IE, zc_family, zc_from
 
-# probe rounds before the cold start; a round that misses the ray recentres the next one (same
-# spread) or, when the model gives no centre, widens it by 4. Recentring, measured against
-# widening alone (zc-ie growth, support calls: protocol mean 22.2 -> 21.6, random pairs 24.7 ->
-# 24.2, median 21 -> 19); recentring with half the spread was worse (23.5, and 22.3 with a
-# quarter)
+# probe rounds before the cold start: spread, 4 spread, 16 spread. Recentring the next round
+# where the secant model through the probes puts the normal (sum_j gam_j d_j) was tried: fewer
+# support calls on the protocol (mean 22.2 -> 21.6) and random pairs (24.7 -> 24.2), but on the
+# moving pair of the warm-start benchmark the secant query stalled on the recentred facets (61
+# support calls against 33 from widened ones, 78 of 400 poses), so it was dropped
 WIDENINGS = 3
 
 
@@ -27,14 +26,12 @@ WIDENINGS = 3
 def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
     """ZC-IE (section 3.4.2) from the facet of the support points in the directions
     normal + spread w_j (`normal` a unit vector), w_j the vertices of a regular simplex in the
-    plane orthogonal to `normal`; while the ray misses that facet, the next probes are centred
-    at the secant model's normal sum_j gam_j d_j / sum_j gam_j (r = sum_j gam_j P_j), or
-    widened when that points away from r; after WIDENINGS rounds, cold ZC-IE. Same result
-    tuple as `shoot`."""
+    plane orthogonal to `normal`, widened while the ray misses that facet; after WIDENINGS
+    rounds, cold ZC-IE. Same result tuple as `shoot`."""
     n = r.shape[0]
     # rows of few allocations, as in zc_from; the views are made in `_probe_facet`, which
     # counts no references (graspforce._jit): here each would cost two atomic updates
-    rows = np.empty((2 * n + 8, n))
+    rows = np.empty((2 * n + 7, n))
     witnesses = np.empty((n + 3, ws))
     lam = np.empty(n + 2)
     matrices = np.empty((2, n, n))
@@ -42,10 +39,10 @@ def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
     t, calls = _probe_facet(ints, floats, r, ws, normal, spread, rows, witnesses, lam, matrices,
                             piv)
     if t > 0.0:
-        # the probes' unit directions (rows[n + 8:]) turn on IE's secant query; no facet
+        # the probes' unit directions (rows[n + 7:]) turn on IE's secant query; no facet
         # inverse to hand over: an empty view, not an allocation
         return zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, t, rows[:n + 2],
-                       witnesses[:n + 2], lam, n, 0, calls, rows[:0], rows[n + 8:])
+                       witnesses[:n + 2], lam, n, 0, calls, rows[:0], rows[n + 7:])
     out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE)
     return (out[0], out[1], out[2], out[3], out[4], out[5] + calls, out[6], out[7], out[8],
             out[9], out[10])
@@ -54,27 +51,24 @@ def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
 @borrowing
 def _probe_facet(ints, floats, r, ws, normal, spread, rows, witnesses, lam, matrices, piv):
     """`shoot_warm`'s probe rounds: (t, support calls), t > 0 when the ray crosses the facet of
-    the probes P = rows[:n] (witnesses[:n], unit directions rows[n + 8:]) at t r = lam @ P,
+    the probes P = rows[:n] (witnesses[:n], unit directions rows[n + 7:]) at t r = lam @ P,
     else 0."""
     n = r.shape[0]
     P = rows[:n + 2]
-    v, d, w, point, gam, centre = (rows[n + 2], rows[n + 3], rows[n + 4], rows[n + 5],
-                                   rows[n + 6], rows[n + 7])
+    v, d, w, point, gam = rows[n + 2], rows[n + 3], rows[n + 4], rows[n + 5], rows[n + 6]
     # the probes' unit directions: with them, IE's steps may take the secant query
-    directions = rows[n + 8:]
+    directions = rows[n + 7:]
     Wt = witnesses[:n + 2]
     wit = witnesses[n + 2]
     M, lu = matrices[0], matrices[1]
+    # Householder reflection taking (1, ..., 1)/sqrt(n) to the normal: it maps the simplex
+    # e_j - 1/n, orthogonal to (1, ..., 1), into the normal's orthogonal plane
+    vv = 0.0
     for a in range(n):
-        centre[a] = normal[a]
+        v[a] = 1.0 / np.sqrt(n) - normal[a]
+        vv += v[a] * v[a]
     calls = 0
     for attempt in range(WIDENINGS):
-        # Householder reflection taking (1, ..., 1)/sqrt(n) to the centre: it maps the simplex
-        # e_j - 1/n, orthogonal to (1, ..., 1), into the centre's orthogonal plane
-        vv = 0.0
-        for a in range(n):
-            v[a] = 1.0 / np.sqrt(n) - centre[a]
-            vv += v[a] * v[a]
         for j in range(n):
             for a in range(n):
                 w[a] = (1.0 if a == j else 0.0) - 1.0 / n
@@ -86,7 +80,7 @@ def _probe_facet(ints, floats, r, ws, normal, spread, rows, witnesses, lam, matr
                     w[a] -= 2.0 * vw / vv * v[a]
             dd = 0.0
             for a in range(n):
-                d[a] = centre[a] + spread * w[a]
+                d[a] = normal[a] + spread * w[a]
                 dd += d[a] * d[a]
             support(ints, floats, d, point, wit)
             dn = 1.0 / np.sqrt(dd)
@@ -110,22 +104,6 @@ def _probe_facet(ints, floats, r, ws, normal, spread, rows, witnesses, lam, matr
                 for j in range(n):
                     lam[j] = gam[j] * t
                 return t, calls
-            # the ray misses the facet. The secant model through the probes (the secant query
-            # of graspforce._shooters) extrapolates to the normal at z_A(r):
-            # sum_j gam_j d_j / sum_j gam_j. Centre the next probes there
-            cr = 0.0
-            for a in range(n):
-                s = 0.0
-                for j in range(n):
-                    s += gam[j] * directions[j, a]
-                w[a] = s
-                cr += s * r[a]
-            # gs > 0: r is beyond the probes' hyperplane, the model's weights are affine ones
-            if gs > 0.0 and cr > 0.0:
-                cn = 1.0 / np.sqrt(dot(w, w))
-                for a in range(n):
-                    centre[a] = w[a] * cn
-                continue
-        # a wider spread when that fails too: the pose moved more than expected
+        # a wider spread when the ray misses the facet: the pose moved more than expected
         spread *= 4.0
     return 0.0, calls
