@@ -18,7 +18,8 @@ from ._shooters import WITH_IE, zc_family, zc_from
 # where the secant model through the probes puts the normal (sum_j gam_j d_j) was tried: fewer
 # support calls on the protocol (mean 22.2 -> 21.6) and random pairs (24.7 -> 24.2), but on the
 # moving pair of the warm-start benchmark the secant query stalled on the recentred facets (61
-# support calls against 33 from widened ones, 78 of 400 poses), so it was dropped
+# support calls against 33 from widened ones, 78 of 400 poses), so it was dropped (before the
+# secant query's gain rule, which catches such stalls: worth measuring again)
 WIDENINGS = 3
 
 
