@@ -5,6 +5,7 @@ caller can warm-start them and read Z_A(r) and its witnesses off the final rows.
 """
 import numpy as np
 from numba import njit
+from numba.extending import register_jitable
 
 from ._corral import combine, corral, set_row
 from ._jit import borrowing
@@ -23,15 +24,22 @@ INSIDE_TOL = 1e-11
 ROUNDING = 1e-13   # about 500 unit roundoffs
 
 
+@register_jitable
+def scratch_of(rows, x, n):
+    """The work arrays of `scratch(n)` as views of rows ((2 n + 5) x (n + 1)) and x (n + 2
+    entries): a caller compiled without reference counting (graspforce._jit) lays them out in
+    arrays it owns."""
+    return (rows[:n], rows[n:2 * n], rows[2 * n + 3, :n], rows[2 * n + 4, :n], x,
+            rows[2 * n:2 * n + 3])
+
+
 @njit(cache=True)
 def scratch(n):
     """Work arrays of the active-set subproblem (D, work, rhs, wrhs, x, house; graspforce._corral):
     allocated once by each shooter and passed to every GJK / ZC call, so that the calls of one
-    shot allocate nothing. Rows of three allocations, not six: a few-microsecond shot feels each
+    shot allocate nothing. Rows of two allocations, not six: a few-microsecond shot feels each
     allocation (~20 ns with its free)."""
-    matrices = np.empty((2, n, n + 1))
-    rows = np.empty((5, n + 1))
-    return (matrices[0], matrices[1], rows[3, :n], rows[4, :n], np.empty(n + 2), rows[:3])
+    return scratch_of(np.empty((2 * n + 5, n + 1)), np.empty(n + 2), n)
 
 
 @borrowing

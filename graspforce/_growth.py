@@ -158,15 +158,16 @@ def query(ints, floats, R_a, p_a, R_b, p_b, packed):
     normal = floats[c + NORMAL:c + NORMAL + 3]
     method = int(floats[c + METHOD])
     if warm:
-        out = shoot_warm(ints, floats, r, ws, eps, max_iter, normal, floats[c + SPREAD])
+        head = shoot_warm(ints, floats, r, ws, eps, max_iter, normal, floats[c + SPREAD], packed,
+                          FRAME)
     elif method == ZC_IE:
         rn = 1.0 / np.sqrt(rr)
         for a in range(3):
             ray[1, a] = r[a] * rn
-        out = shoot_warm(ints, floats, r, ws, eps, max_iter, ray[1], COLD_SPREAD)
+        head = shoot_warm(ints, floats, r, ws, eps, max_iter, ray[1], COLD_SPREAD, packed, FRAME)
     else:
-        out = shoot(ints, floats, r, ws, method, eps, max_iter)
-    status, t, t_up, h_n, iterations, calls, singular, k = pack(out, packed, FRAME)
+        head = pack(shoot(ints, floats, r, ws, method, eps, max_iter), packed, FRAME)
+    status, t, t_up, h_n, iterations, calls, singular, k = head
     packed[POSES] = status
     packed[POSES + 1] = t
     packed[POSES + 2] = t_up
@@ -181,14 +182,14 @@ def query(ints, floats, R_a, p_a, R_b, p_b, packed):
         if status == HIT and warm:
             dn = 0.0
             for a in range(3):
-                dn += (out[6][a] - normal[a]) ** 2
+                dn += (packed[FRAME + a] - normal[a]) ** 2
             floats[c + SPREAD] = min(max(SPREAD_GAIN * np.sqrt(dn), SPREAD_MIN), SPREAD_MAX)
         else:
             floats[c + SPREAD] = WARM_SPREAD
         floats[c + WARM] = 1.0 if status == HIT else 0.0
         if status == HIT:
             for a in range(3):
-                normal[a] = out[6][a]
+                normal[a] = packed[FRAME + a]
     if status != HIT:
         sigma = 1.0 / t if t > 0.0 else np.inf
         return code, NOT_CERTIFIED, sigma, 0.0, np.inf, iterations, calls

@@ -22,12 +22,10 @@ def capacity(n, ws):
 
 
 @borrowing
-def pack(out, packed, e):
-    """The head (status, t, t_upper, h_n, iterations, support_calls, singular_steps, k) of the
-    shooters' result tuple `out` (graspforce._shooters._result), its arrays written to
-    packed[e:] (at least `capacity(n, ws)` entries)."""
-    normal, V, lam, W = out[6], out[7], out[8], out[9]
-    k, n = V.shape
+def pack_arrays(normal, V, lam, W, k, packed, e):
+    """normal, lam[:k], V[:k] and W[:k] written to packed[e:] (at least `capacity(n, ws)`
+    entries), in the layout `unpack` reads."""
+    n = normal.shape[0]
     ws = W.shape[1]
     for a in range(n):
         packed[e + a] = normal[a]
@@ -42,6 +40,15 @@ def pack(out, packed, e):
     for j in range(k):
         for a in range(ws):
             packed[pos + ws * j + a] = W[j, a]
+
+
+@borrowing
+def pack(out, packed, e):
+    """The head (status, t, t_upper, h_n, iterations, support_calls, singular_steps, k) of the
+    shooters' result tuple `out` (graspforce._shooters._result), its arrays written to
+    packed[e:] (`pack_arrays`)."""
+    k = out[7].shape[0]
+    pack_arrays(out[6], out[7], out[8], out[9], k, packed, e)
     return out[0], out[1], out[2], out[3], out[4], out[5], out[10], k
 
 

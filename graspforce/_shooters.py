@@ -14,10 +14,11 @@ Tolerance: every stopping rule is relative, (h_A(n) - n^T z) <= eps * n^T z, i.e
 """
 import numpy as np
 from numba import njit
+from numba.extending import register_jitable
 
 from ._corral import drop_point, reproduce, residual2, set_row, weights_on_ray
-from ._distance import CONVERGED, INSIDE, MAX_ITER, STALLED, gjk, scratch, zc
-from ._jit import borrowing
+from ._distance import CONVERGED, INSIDE, MAX_ITER, STALLED, gjk, scratch, scratch_of, zc
+from ._jit import borrowing, view
 from ._kernel import support
 from ._linalg import dot, invert, lstsq, lu_factor, lu_solve, lu_solve_t, smallest
 from ._newton import newton_finish
@@ -48,13 +49,20 @@ ZC_IE_NEWTON = 5
 FACE_ROUNDING = 1e-12
 
 
+@register_jitable
+def reported_upper(status, t, t_up):
+    """t_upper as a result reports it: a hit's, below t by at most FACE_ROUNDING, is t."""
+    if status == HIT and t * (1.0 - FACE_ROUNDING) <= t_up < t:
+        return t
+    return t_up
+
+
 @njit(cache=True)
 def _result(status, t, t_up, h_n, iters, calls, normal, P, lam, Wt, k, singular):
     # views, not copies: the shooter's arrays die with it, and every caller packs or reads the
     # result before shooting again (four allocations a shot saved)
-    if status == HIT and t * (1.0 - FACE_ROUNDING) <= t_up < t:
-        t_up = t
-    return status, t, t_up, h_n, iters, calls, normal, P[:k], lam[:k], Wt[:k], singular
+    return (status, t, reported_upper(status, t, t_up), h_n, iters, calls, normal, P[:k],
+            lam[:k], Wt[:k], singular)
 
 
 @borrowing(forceinline=True)
@@ -441,62 +449,130 @@ def zc_family(ints, floats, r, ws, eps, max_iter, mode):
                    np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0, none, none)
 
 
-def _zc_from_of(fixed_n):
-    """`zc_from` compiled for one dimension n (every loop over n in it and in the helpers it
-    inlines then has a constant bound, which LLVM unrolls) or, when fixed_n is None, for any (n
-    then passed last)."""
-    @njit(cache=True)
-    def zc_from_n(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls, inverse,
-                  directions, n=fixed_n):
-        """`zc_from` (its docstring), with n = r's dimension fixed or passed."""
-        use_ie = mode == WITH_IE or mode == WITH_NEWTON
-        singular = 0
-        # the simplex, the n-vectors and the n x n matrices as rows of few allocations: a shot
-        # of a few microseconds felt each of its ~40 allocations (~25 ns each)
-        rows = np.empty((n + 10, n))
+# zc_from's loop (`_zc_loop_of`) counts no references (graspforce._jit): it runs in arrays its
+# caller allocates (`zc_work`) and stops, with its state in one of them, wherever
+# something counted must act, its driver `zc_drive`: the Newton finish and the result record.
+# Counted, the loop's ~20 views and its chain of callers took ~140 reference-count updates a
+# growth query (BENCHMARKS.md, "Stop 29")
+(ST_T, ST_K, ST_KZ, ST_IT, ST_CALLS, ST_SINGULAR, ST_AGE, ST_CHANGED, ST_FRESH, ST_NEWTON_GAP,
+ ST_IDLE, ST_SECANT, ST_REST, ST_PACE, ST_LAST, ST_PENDING, ST_T_UP, ST_H) = range(18)
+STATE = 18
+# the loop's stops besides the statuses HIT, MISS, LIMIT and FACET (the result's)
+NEWTON_TRY = 4   # "zc-ie-newton": the last IE step asks for the Newton finish; resume after it
+NEWTON_END = 5   # ZC's point could not be certified: the Newton finish, else LIMIT
+
+
+@register_jitable
+def zc_work_size(n, ws):
+    """Entries of the work array of zc_from's loop in R^n, witnesses of ws entries
+    (`loop_arrays`)."""
+    return ((n + 10) * n + (n + 3) * ws + n + 2 + 4 * n * n + (2 * n + 5) * (n + 1) + n + 2
+            + STATE)
+
+
+@register_jitable
+def zc_work(n, ws, room=0):
+    """The work array of zc_from's loop (with `room` entries after the loop's for the caller)
+    and its pivots."""
+    return np.empty(zc_work_size(n, ws) + room), np.empty(n, np.int64)
+
+
+@register_jitable
+def loop_arrays(work, n, ws):
+    """The arrays of zc_from's loop as views of `work` (graspforce._jit.view: shapes that LLVM
+    sees): rows ((n + 10) x n: the simplex P, then the n-vectors), witnesses ((n + 3) x ws),
+    weights (n + 2), four n x n matrices, the subproblem's `scratch`, the state (STATE)."""
+    a = (n + 10) * n
+    b = a + (n + 3) * ws
+    c = b + n + 2
+    d = c + 4 * n * n
+    e = d + (2 * n + 5) * (n + 1)
+    f = e + n + 2
+    return (view(work, 0, (n + 10, n)), view(work, a, (n + 3, ws)), view(work, b, n + 2),
+            view(work, c, (4, n, n)),
+            scratch_of(view(work, d, (2 * n + 5, n + 1)), view(work, e, n + 2), n),
+            view(work, f, STATE))
+
+
+def _zc_loop_of(fixed_n):
+    """zc_from's loop compiled for one dimension n (every loop over n in it and in the helpers
+    it inlines then has a constant bound, which LLVM unrolls) or, when fixed_n is None, for any
+    (n then passed last). Without LLVM's fast-math flags: IDLE_STEPS's test `t + 1 / sigma == t`
+    is exact rounding on purpose."""
+    @borrowing(fastmath=False)
+    def zc_loop_n(ints, floats, r, ws, eps, max_iter, mode, Pz, Wz, lz, inverse, directions,
+                  work, piv, n=fixed_n):
+        """`zc_loop` (its docstring), with n = r's dimension fixed or passed."""
+        rows, witnesses, lam, matrices, sc, state = loop_arrays(work, n, ws)
         P = rows[:n + 2]
         nvec, v, point, ones, y, gam, alpha, b = (rows[n + 2], rows[n + 3], rows[n + 4],
                                                   rows[n + 5], rows[n + 6], rows[n + 7],
                                                   rows[n + 8], rows[n + 9])
-        witnesses = np.empty((n + 3, ws))
         Wt = witnesses[:n + 2]
         wit = witnesses[n + 2]
-        lam = np.empty(n + 2)
-        _keep(Pz, Wz, lz, kz, P, Wt, lam)     # element loops, not slices (`_keep`)
-        sc = scratch(n)
-        if use_ie and kz == n:
-            k = kz            # a warm-start facet (graspforce._warm): IE steps from it at once
-        else:
-            k = _restart(P, Wt, lam, kz, r, sc) if kz > 0 else 0
-        ones[:] = 1.0
-        matrices = np.empty((4, n, n))
         M, lu, B, D = matrices[0], matrices[1], matrices[2], matrices[3]
-        piv = np.empty(n, np.int64)
-        age = -1
-        # the secant query needs every facet point's support direction (D's rows): known from
-        # the caller's facet, kept by IE steps, lost to any other step
-        secant = mode == WITH_IE and kz == n and directions.shape[0] >= n
-        if secant:
-            for j in range(n):
-                for i in range(n):
-                    D[j, i] = directions[j, i]
-        rest = 0          # plain IE steps before the next secant query
-        pace = np.inf     # the last query's relative gap h_A(n) / (t n^T r) - 1
-        last = -1         # the facet row the last secant point went to (-1: none to judge)
-        if use_ie and kz == n and inverse.shape[0] == n:
-            # the table's inverse of its facet: IE's first step factors nothing
-            for i in range(n):
+        use_ie = mode == WITH_IE or mode == WITH_NEWTON
+        t = state[ST_T]
+        kz = int(state[ST_KZ])
+        it = int(state[ST_IT])
+        calls = int(state[ST_CALLS])
+        if state[ST_K] < 0.0:
+            # the first call: from the caller's simplex
+            singular = 0
+            _keep(Pz, Wz, lz, kz, P, Wt, lam)     # element loops, not slices (`_keep`)
+            if use_ie and kz == n:
+                k = kz        # a warm-start facet (graspforce._warm): IE steps from it at once
+            else:
+                k = _restart(P, Wt, lam, kz, r, sc) if kz > 0 else 0
+            ones[:] = 1.0
+            age = -1
+            # the secant query needs every facet point's support direction (D's rows): known
+            # from the caller's facet, kept by IE steps, lost to any other step
+            secant = mode == WITH_IE and kz == n and directions.shape[0] >= n
+            if secant:
                 for j in range(n):
-                    B[i, j] = inverse[i, j]
-            _matvec_t_ones(B, n, y)
-            _matvec(B, n, r, gam)
-            age = 0
-        # the row of P that the last IE step replaced since Pz last held the facet (-1: unknown)
-        changed = -1
-        fresh_only = False
-        newton_gap = NEWTON_GAP if mode == WITH_NEWTON else -1.0
-        idle = 0          # ZC steps in a row that left b_k where it was
+                    for i in range(n):
+                        D[j, i] = directions[j, i]
+            rest = 0          # plain IE steps before the next secant query
+            pace = np.inf     # the last query's relative gap h_A(n) / (t n^T r) - 1
+            last = -1         # the facet row the last secant point went to (-1: none to judge)
+            if use_ie and kz == n and inverse.shape[0] == n:
+                # the table's inverse of its facet: IE's first step factors nothing
+                for i in range(n):
+                    for j in range(n):
+                        B[i, j] = inverse[i, j]
+                _matvec_t_ones(B, n, y)
+                _matvec(B, n, r, gam)
+                age = 0
+            # the row of P that the last IE step replaced since Pz last held the facet (-1:
+            # unknown)
+            changed = -1
+            fresh_only = False
+            newton_gap = NEWTON_GAP if mode == WITH_NEWTON else -1.0
+            idle = 0          # ZC steps in a row that left b_k where it was
+        else:
+            # resumed after the driver's Newton try (it and calls include the try's)
+            k = int(state[ST_K])
+            singular = int(state[ST_SINGULAR])
+            age = int(state[ST_AGE])
+            changed = int(state[ST_CHANGED])
+            fresh_only = state[ST_FRESH] != 0.0
+            newton_gap = state[ST_NEWTON_GAP]
+            idle = int(state[ST_IDLE])
+            secant = state[ST_SECANT] != 0.0
+            rest = int(state[ST_REST])
+            pace = state[ST_PACE]
+            last = int(state[ST_LAST])
+        # a Newton try the driver owes: the gap of the IE step that asked for it (0: none). Its
+        # simplex is the step's facet, kept in Pz[:n], and the step's support point, P[n]
+        pending = 0.0
+        code = LIMIT
+        t_up = np.inf
+        h_n = 0.0
         while it < max_iter:
+            if pending > 0.0:
+                code = NEWTON_TRY
+                break
             if use_ie and k == n:
                 # IE step on the facet CH(V), columns a_l: hyperplane y^T x = 1, r = sum gam_l a_l.
                 # y and gam come from B, the facet's inverse, refactored every REFACTOR steps and
@@ -594,14 +670,16 @@ def _zc_from_of(fixed_n):
                         for j in range(n):
                             lam[j] = gam[j] * t
                         kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
+                        code = HIT
                         t_up = h / dot(nvec, r) if query_secant else h * ny / yr
-                        return _result(HIT, t, t_up, h, it, calls, nvec, Pz, lz, Wz, kz,
-                                       singular)
+                        h_n = h
+                        break
                     if closed:
                         # certify: the normal and h_A(n) already evaluated bound t from above
-                        # whatever n is; from below, t r must be the convex combination gam / sum(gam)
-                        # of the facet's points, checked by its residual (the updated inverse's
-                        # drift shows there). Failing that, LU solves on a fresh factorization.
+                        # whatever n is; from below, t r must be the convex combination gam /
+                        # sum(gam) of the facet's points, checked by its residual (the updated
+                        # inverse's drift shows there). Failing that, LU solves on a fresh
+                        # factorization.
                         nr = dot(nvec, r)
                         for refine in range(2):
                             if refine == 1:
@@ -629,8 +707,13 @@ def _zc_from_of(fixed_n):
                                 lam[j] = gam[j] * tz
                             if _holds(P, lam, n, tz, r, b, FACET_HOLDS):
                                 kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
-                                return _result(HIT, tz, h / nr, h, it, calls, nvec, Pz, lz, Wz, kz,
-                                               singular)
+                                code = HIT
+                                t = tz
+                                t_up = h / nr
+                                h_n = h
+                                break
+                        if code == HIT:
+                            break
                         ok = _solve_facet(P, n, r, M, lu, piv, ones, y, gam)
                         yr = dot(y, r)
                         if (ok and yr > 0.0 and smallest(gam, n) >= 0.0
@@ -639,8 +722,10 @@ def _zc_from_of(fixed_n):
                             for j in range(n):
                                 lam[j] = gam[j] * t
                             kz = _keep(P, Wt, lam, n, Pz, Wz, lz)
-                            return _result(HIT, t, h / nr, h, it, calls, nvec, Pz, lz, Wz, kz,
-                                           singular)
+                            code = HIT
+                            t_up = h / nr
+                            h_n = h
+                            break
                         # the updated inverse's drift matters at this eps: from here on, LU
                         # solves at every step (the floor of docs/core-api.md, "Numerical floor")
                         fresh_only = True
@@ -648,25 +733,21 @@ def _zc_from_of(fixed_n):
                     for j in range(n):
                         lam[j] = gam[j] * t
                     gap = h * ny - 1.0
+                    kz = _keep(P, Wt, lam, n, Pz, Wz, lz, changed)
                     if gap <= newton_gap:
                         # IE's cutting planes have found the exit face's pieces: Newton on them
-                        # (graspforce._newton), the new support point a candidate piece
+                        # (graspforce._newton), with the new support point as a candidate
+                        # piece. The driver tries it when this step is done: its simplex,
+                        # Pz[:n] and P[n], stays as it is until then
                         set_row(P, Wt, n, point, wit)
-                        lam[n] = 0.0
-                        fin = newton_finish(ints, floats, r, eps, P, Wt, lam, n + 1, nvec, t, False)
-                        it += fin[5]
-                        calls += fin[6]
-                        if fin[0]:
-                            return _result(HIT, fin[1], fin[2], fin[3], it, calls, fin[7], fin[8],
-                                           fin[9], fin[10], fin[4], singular)
-                        newton_gap = gap * NEWTON_RETRY
-                    kz = _keep(P, Wt, lam, n, Pz, Wz, lz, changed)
+                        pending = gap
                     # ratio test: the new facet the ray crosses replaces the vertex j*
                     if fresh_only:
                         lu_solve(lu, piv, n, point, alpha)
                     else:
                         _matvec(B, n, point, alpha)
-                    # the least gam_j / alpha_j over alpha_j > 0, compared as products: no division
+                    # the least gam_j / alpha_j over alpha_j > 0, compared as products: no
+                    # division
                     js = -1
                     amax = 0.0
                     for j in range(n):
@@ -677,12 +758,14 @@ def _zc_from_of(fixed_n):
                     if _same_point(P, js, point):
                         # s is the vertex it would replace: the step cannot move, and the gap was
                         # the updated inverse's drift (a vertex lies on its facet). Fresh factors,
-                        # then LU solves; s a vertex even then is rounding at this eps: the bracket
-                        # stands (before, the step repeated itself until max_iter: a full-magnitude
-                        # lift at eps = 3e-12, BENCHMARKS.md "Stop 22")
+                        # then LU solves; s a vertex even then is rounding at this eps: the
+                        # bracket stands (before, the step repeated itself until max_iter: a
+                        # full-magnitude lift at eps = 3e-12, BENCHMARKS.md "Stop 22")
                         if fresh_only:
-                            return _result(LIMIT, t, h * ny / yr, h, it, calls, nvec, Pz, lz, Wz,
-                                           kz, singular)
+                            code = LIMIT
+                            t_up = h * ny / yr
+                            h_n = h
+                            break
                         if age > 0:
                             age = -1
                         else:
@@ -723,7 +806,9 @@ def _zc_from_of(fixed_n):
                     lam[j] /= sigma
                 kz = _keep(P, Wt, lam, k, Pz, Wz, lz)
                 if mode == UNTIL_FACET and k == n:
-                    return _result(FACET, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz, 0)
+                    code = FACET
+                    singular = 0
+                    break
                 if not (use_ie and k == n):
                     k = _restart(P, Wt, lam, k, r, sc)
                 continue
@@ -732,7 +817,12 @@ def _zc_from_of(fixed_n):
             if t == 0.0:
                 # CONVERGED here means h_A(n) <= 0 < n^T r: a certified miss. STALLED means r lies
                 # on the boundary of CO(A) to rounding: the ray at most grazes A, reported a miss.
-                return _result(MISS, 0.0, 0.0, h, it, calls, nvec, P, lam, Wt, 0, 0)
+                code = MISS
+                t_up = 0.0
+                h_n = h
+                kz = 0
+                singular = 0
+                break
             # converged (or stalled): z = b_k, supported by H(n, s_A(n)). A stall certifies
             # nothing by itself: ZC's cone from b_k also loses rank far from z_A(r), on rays near
             # the boundary of a set whose origin is on its boundary (two contacts' wrench set, which
@@ -748,29 +838,129 @@ def _zc_from_of(fixed_n):
             t_up = h_n / dot(nvec, r)
             if ((st == CONVERGED or t_up - t <= max(eps, STALL_FLOOR) * t)
                     and _holds(Pz, lz, kz, t, r, b, POINT_HOLDS)):
-                return _result(HIT, t, t_up, h_n, it, calls, nvec, Pz, lz, Wz, kz, singular)
-            for corner in (False, True):
-                fin = newton_finish(ints, floats, r, eps, Pz, Wz, lz, kz, nvec, t, corner)
-                it += fin[5]
-                calls += fin[6]
-                if fin[0]:
-                    return _result(HIT, fin[1], fin[2], fin[3], it, calls, fin[7], fin[8], fin[9],
-                                   fin[10], fin[4], singular)
-            # t r need not be in A here: an estimate, never above the certified bound
-            return _result(LIMIT, min(t, t_up), t_up, h_n, it, calls, nvec, Pz, lz, Wz, kz,
-                           singular)
-        return _result(LIMIT, t, np.inf, 0.0, it, calls, nvec, Pz, lz, Wz, kz, singular)
-    return zc_from_n
+                code = HIT
+            else:
+                code = NEWTON_END
+            break
+        state[ST_T] = t
+        state[ST_K] = k
+        state[ST_KZ] = kz
+        state[ST_IT] = it
+        state[ST_CALLS] = calls
+        state[ST_SINGULAR] = singular
+        state[ST_AGE] = age
+        state[ST_CHANGED] = changed
+        state[ST_FRESH] = 1.0 if fresh_only else 0.0
+        state[ST_NEWTON_GAP] = newton_gap
+        state[ST_IDLE] = idle
+        state[ST_SECANT] = 1.0 if secant else 0.0
+        state[ST_REST] = rest
+        state[ST_PACE] = pace
+        state[ST_LAST] = last
+        state[ST_PENDING] = pending
+        state[ST_T_UP] = t_up
+        state[ST_H] = h_n
+        return code
+    return zc_loop_n
 
 
-# ZC-IE in the dimensions the goals' calls shoot in, compiled for each: 3-D bodies (growth
-# distance), wrenches (W_L1) and W_Linf's lift for four contacts (R^9). Each costs zc_from's
-# compile time again (the test suite after a cache clear: 383 -> 561 s); other dimensions take
-# the general version. ab.py: BENCHMARKS.md, "Stop 24"
-_zc_from_any = _zc_from_of(None)
-_zc_from_3 = _zc_from_of(3)
-_zc_from_6 = _zc_from_of(6)
-_zc_from_9 = _zc_from_of(9)
+# zc_from's loop in the dimensions the goals' calls shoot in, compiled for each: 3-D bodies
+# (growth distance), wrenches (W_L1) and W_Linf's lift for four contacts (R^9). Each costs the
+# loop's compile time again; other dimensions take the general version. ab.py: BENCHMARKS.md,
+# "Stop 24"
+_zc_loop_any = _zc_loop_of(None)
+_zc_loop_3 = _zc_loop_of(3)
+_zc_loop_6 = _zc_loop_of(6)
+_zc_loop_9 = _zc_loop_of(9)
+
+
+@borrowing(fastmath=False)
+def zc_loop(ints, floats, r, ws, eps, max_iter, mode, Pz, Wz, lz, inverse, directions, work,
+            piv):
+    """ZC-based iterations (section 3.3) and, with mode WITH_IE or WITH_NEWTON, IE steps
+    whenever V_k is a facet (section 3.4.2), in `zc_work(n, ws)`'s arrays. The state
+    (`start_state` before the first call) says where to start; the loop returns why it
+    stopped: HIT, MISS, LIMIT or FACET with the result in its state, the normal (rows[n + 2])
+    and Pz[:kz], Wz[:kz], lz[:kz]; or NEWTON_TRY, NEWTON_END, which `zc_drive` settles. Runs
+    the version compiled for r's dimension (`_zc_loop_of`)."""
+    n = r.shape[0]
+    if n == 6:
+        return _zc_loop_6(ints, floats, r, ws, eps, max_iter, mode, Pz, Wz, lz, inverse,
+                          directions, work, piv)
+    if n == 3:
+        return _zc_loop_3(ints, floats, r, ws, eps, max_iter, mode, Pz, Wz, lz, inverse,
+                          directions, work, piv)
+    if n == 9:
+        return _zc_loop_9(ints, floats, r, ws, eps, max_iter, mode, Pz, Wz, lz, inverse,
+                          directions, work, piv)
+    return _zc_loop_any(ints, floats, r, ws, eps, max_iter, mode, Pz, Wz, lz, inverse,
+                        directions, work, piv, n)
+
+
+@borrowing(forceinline=True)
+def start_state(work, n, ws, t, kz, it, calls):
+    """The state (in `zc_work`'s work array) of a loop that starts from b = t r, the convex
+    combination lz of Pz[:kz], with it iterations and calls support calls spent."""
+    e = zc_work_size(n, ws) - STATE
+    work[e + ST_T] = t
+    work[e + ST_K] = -1.0
+    work[e + ST_KZ] = kz
+    work[e + ST_IT] = it
+    work[e + ST_CALLS] = calls
+
+
+@njit(cache=True)
+def zc_drive(ints, floats, r, ws, eps, max_iter, mode, Pz, Wz, lz, inverse, directions, work,
+             piv, code):
+    """The result tuple of zc_from's loop, which stopped with `code` (`zc_loop`): the Newton
+    finish it asks for (resuming it after a try that fails), then the record."""
+    n = r.shape[0]
+    rows, witnesses, _, _, _, state = loop_arrays(work, n, ws)
+    nvec = rows[n + 2]
+    while True:
+        pending = state[ST_PENDING]
+        if pending > 0.0:
+            # the IE step's facet (Pz[:n]) and its support point (P[n]) as Newton's pieces
+            for i in range(n):
+                Pz[n, i] = rows[n, i]
+            for i in range(ws):
+                Wz[n, i] = witnesses[n, i]
+            lz[n] = 0.0
+            fin = newton_finish(ints, floats, r, eps, Pz, Wz, lz, n + 1, nvec, state[ST_T],
+                                False)
+            it = int(state[ST_IT]) + fin[5]
+            calls = int(state[ST_CALLS]) + fin[6]
+            if fin[0]:
+                return _result(HIT, fin[1], fin[2], fin[3], it, calls, fin[7], fin[8], fin[9],
+                               fin[10], fin[4], int(state[ST_SINGULAR]))
+            state[ST_IT] = it
+            state[ST_CALLS] = calls
+            state[ST_NEWTON_GAP] = pending * NEWTON_RETRY
+            state[ST_PENDING] = 0.0
+        if code == NEWTON_TRY:
+            code = zc_loop(ints, floats, r, ws, eps, max_iter, mode, Pz, Wz, lz, inverse,
+                           directions, work, piv)
+            continue
+        break
+    t = state[ST_T]
+    kz = int(state[ST_KZ])
+    it = int(state[ST_IT])
+    calls = int(state[ST_CALLS])
+    singular = int(state[ST_SINGULAR])
+    t_up = state[ST_T_UP]
+    h_n = state[ST_H]
+    if code == NEWTON_END:
+        for corner in (False, True):
+            fin = newton_finish(ints, floats, r, eps, Pz, Wz, lz, kz, nvec, t, corner)
+            it += fin[5]
+            calls += fin[6]
+            if fin[0]:
+                return _result(HIT, fin[1], fin[2], fin[3], it, calls, fin[7], fin[8], fin[9],
+                               fin[10], fin[4], singular)
+        # t r need not be in A here: an estimate, never above the certified bound
+        return _result(LIMIT, min(t, t_up), t_up, h_n, it, calls, nvec, Pz, lz, Wz, kz,
+                       singular)
+    return _result(code, t, t_up, h_n, it, calls, nvec, Pz, lz, Wz, kz, singular)
 
 
 @njit(cache=True)
@@ -784,24 +974,19 @@ def zc_from(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, cal
     it is a facet: IE's initialization). inverse: [Pz_0 .. Pz_{n-1}]^{-1} when it is known (a
     start table's facet, graspforce._start_table), else a 0 x 0 array. directions: with WITH_IE
     and kz = n, the unit directions whose support points Pz[:kz] are (graspforce._warm's probes),
-    which turn on the secant query (docs/core-api.md), else a 0 x 0 array. Runs the version
-    compiled for r's dimension (`_zc_from_of`)."""
+    which turn on the secant query (docs/core-api.md), else a 0 x 0 array. Pz, Wz, lz have
+    n + 2 rows. `zc_loop` in arrays of its own (`zc_work`), then `zc_drive`."""
     n = r.shape[0]
-    # callers pass constants (the mode, zero counts), which Numba types as literals and would
-    # compile every version for again (nine signatures: the test suite's compile time 383 ->
-    # 963 s); a sum is a plain int64
-    mode_, kz_, it_, calls_ = mode + 0, kz + 0, it + 0, calls + 0
-    if n == 6:
-        return _zc_from_6(ints, floats, r, ws, eps, max_iter, mode_, t, Pz, Wz, lz, kz_, it_,
-                          calls_, inverse, directions)
-    if n == 3:
-        return _zc_from_3(ints, floats, r, ws, eps, max_iter, mode_, t, Pz, Wz, lz, kz_, it_,
-                          calls_, inverse, directions)
-    if n == 9:
-        return _zc_from_9(ints, floats, r, ws, eps, max_iter, mode_, t, Pz, Wz, lz, kz_, it_,
-                          calls_, inverse, directions)
-    return _zc_from_any(ints, floats, r, ws, eps, max_iter, mode_, t, Pz, Wz, lz, kz_, it_,
-                        calls_, inverse, directions, n)
+    # callers pass the mode as a constant, which Numba types as a literal and would compile the
+    # loop's versions for again (nine signatures: the test suite's compile time 383 -> 963 s); a
+    # sum is a plain int64
+    mode_ = mode + 0
+    work, piv = zc_work(n, ws)
+    start_state(work, n, ws, t, kz, it, calls)
+    code = zc_loop(ints, floats, r, ws, eps, max_iter, mode_, Pz, Wz, lz, inverse, directions,
+                   work, piv)
+    return zc_drive(ints, floats, r, ws, eps, max_iter, mode_, Pz, Wz, lz, inverse, directions,
+                    work, piv, code)
 
 
 @borrowing

@@ -8,11 +8,15 @@ directions for IE's secant query (graspforce._shooters).
 """
 import numpy as np
 from numba import njit
+from numba.extending import register_jitable
 
 from ._kernel import support
-from ._jit import borrowing
+from ._jit import borrowing, view
 from ._linalg import lu_factor, lu_solve, smallest
-from ._shooters import WITH_IE, zc_family, zc_from
+from ._packed import pack, pack_arrays
+from ._shooters import (HIT, LIMIT, MISS, ST_CALLS, ST_H, ST_IT, ST_KZ, ST_SINGULAR, ST_T,
+                        ST_T_UP, WITH_IE, loop_arrays, reported_upper, start_state, zc_drive,
+                        zc_family, zc_loop, zc_work, zc_work_size)
 
 # probe rounds before the cold start: spread, 4 spread, 16 spread. Recentring the next round
 # where the secant model through the probes puts the normal (sum_j gam_j d_j) was tried: fewer
@@ -23,30 +27,79 @@ from ._shooters import WITH_IE, zc_family, zc_from
 WIDENINGS = 3
 
 
+# `_warm_shot`'s stop when the ray misses every round of probes
+PROBES_MISSED = -1
+
+
 @njit(cache=True)
-def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread):
+def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread, packed, e):
     """ZC-IE (section 3.4.2) from the facet of the support points in the directions
     normal + spread w_j (`normal` a unit vector), w_j the vertices of a regular simplex in the
     plane orthogonal to `normal`, widened while the ray misses that facet; after WIDENINGS
-    rounds, cold ZC-IE. Same result tuple as `shoot`."""
+    rounds, cold ZC-IE. Writes the shot's arrays to packed[e:] (graspforce._packed) and returns
+    its head (status, t, t_upper, h_n, iterations, support_calls, singular_steps, k)."""
     n = r.shape[0]
-    # rows of few allocations, as in zc_from; the views are made in `_probe_facet`, which
-    # counts no references (graspforce._jit): here each would cost two atomic updates
-    rows = np.empty((2 * n + 7, n))
-    witnesses = np.empty((n + 3, ws))
-    lam = np.empty(n + 2)
-    matrices = np.empty((2, n, n))
-    piv = np.empty(n, np.int64)
+    # zc_from's loop's work array with room for the probes' (`_probe_arrays`): the probes and
+    # the loop count no references (graspforce._jit), and the shot allocates twice
+    work, piv = zc_work(n, ws, _probe_size(n, ws))
+    head = _warm_shot(ints, floats, r, ws, eps, max_iter, normal, spread, work, piv, packed, e)
+    if head[0] >= 0:
+        return head
+    if head[0] == PROBES_MISSED:
+        calls = head[5]
+        out = pack(zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE), packed, e)
+        return out[0], out[1], out[2], out[3], out[4], out[5] + calls, out[6], out[7]
+    # a stop that zc_from's counted driver settles (ZC's uncertified point: the Newton finish)
+    rows, witnesses, lam, _ = _probe_arrays(work, n, ws)
+    return pack(zc_drive(ints, floats, r, ws, eps, max_iter, WITH_IE + 0, rows[:n + 2],
+                         witnesses[:n + 2], lam, rows[:0], rows[n + 7:], work, piv, -head[0]),
+                packed, e)
+
+
+@register_jitable
+def _probe_size(n, ws):
+    """Entries of the probes' arrays (`_probe_arrays`)."""
+    return (2 * n + 7) * n + (n + 3) * ws + n + 2 + 2 * n * n
+
+
+@register_jitable
+def _probe_arrays(work, n, ws):
+    """`_probe_facet`'s arrays (rows: the facet P, the n-vectors, the probes' directions;
+    witnesses; weights; two n x n matrices) as views of shoot_warm's work array, after zc_from's
+    loop's."""
+    a = zc_work_size(n, ws)
+    b = a + (2 * n + 7) * n
+    c = b + (n + 3) * ws
+    d = c + n + 2
+    return (view(work, a, (2 * n + 7, n)), view(work, b, (n + 3, ws)), view(work, c, n + 2),
+            view(work, d, (2, n, n)))
+
+
+@borrowing
+def _warm_shot(ints, floats, r, ws, eps, max_iter, normal, spread, work, piv, packed, e):
+    """shoot_warm's probes and ZC-IE, in its arrays. A finished shot is packed and its head
+    returned; else the head's status is PROBES_MISSED (with the probes' support calls) or minus
+    zc_from's loop's stop, for its driver."""
+    n = r.shape[0]
+    rows, witnesses, lam, matrices = _probe_arrays(work, n, ws)
     t, calls = _probe_facet(ints, floats, r, ws, normal, spread, rows, witnesses, lam, matrices,
                             piv)
-    if t > 0.0:
-        # the probes' unit directions (rows[n + 7:]) turn on IE's secant query; no facet
-        # inverse to hand over: an empty view, not an allocation
-        return zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, t, rows[:n + 2],
-                       witnesses[:n + 2], lam, n, 0, calls, rows[:0], rows[n + 7:])
-    out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE)
-    return (out[0], out[1], out[2], out[3], out[4], out[5] + calls, out[6], out[7], out[8],
-            out[9], out[10])
+    if t <= 0.0:
+        return PROBES_MISSED, 0.0, 0.0, 0.0, 0, calls, 0, 0
+    P, Wt = rows[:n + 2], witnesses[:n + 2]
+    start_state(work, n, ws, t, n, 0, calls)
+    # the probes' unit directions turn on IE's secant query; no facet inverse to hand over: an
+    # empty view
+    code = zc_loop(ints, floats, r, ws, eps, max_iter, WITH_IE + 0, P, Wt, lam, rows[:0],
+                   rows[n + 7:], work, piv)
+    if code != HIT and code != MISS and code != LIMIT:
+        return -code, 0.0, 0.0, 0.0, 0, 0, 0, 0
+    loop_rows, _, _, _, _, state = loop_arrays(work, n, ws)
+    t = state[ST_T]
+    kz = int(state[ST_KZ])
+    pack_arrays(loop_rows[n + 2], P, lam, Wt, kz, packed, e)
+    return (code, t, reported_upper(code, t, state[ST_T_UP]), state[ST_H], int(state[ST_IT]),
+            int(state[ST_CALLS]), int(state[ST_SINGULAR]), kz)
 
 
 @borrowing

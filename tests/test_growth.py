@@ -346,6 +346,7 @@ def test_probes_whose_facet_misses_the_ray_fall_back_to_zc_from_the_origin():
     # starts from the origin: a plain ZC-IE shot's answer, for the probes' support calls more.
     from graspforce._dispatch import shoot
     from graspforce._shooters import HIT, ZC_IE
+    from graspforce._packed import capacity
     from graspforce._warm import WIDENINGS, shoot_warm
     pair = PAIRS[0]
     solver = gf.GrowthDistance(*shapes(pair, 1.0), warm_start=False)
@@ -353,7 +354,8 @@ def test_probes_whose_facet_misses_the_ray_fall_back_to_zc_from_the_origin():
     ints, floats, ws = solver._ints, solver._floats, solver.delta.witness_size
     r = np.ascontiguousarray(pair["p_c"] - pair["p_e"], dtype=float)
     plain = shoot(ints, floats, r, ws, ZC_IE, 1e-9, 1000)
-    probed = shoot_warm(ints, floats, r, ws, 1e-9, 1000, -r / np.linalg.norm(r), 0.05)
+    packed = np.empty(capacity(3, ws))
+    probed = shoot_warm(ints, floats, r, ws, 1e-9, 1000, -r / np.linalg.norm(r), 0.05, packed, 0)
     assert plain[0] == probed[0] == HIT
     assert (probed[1], probed[2]) == (plain[1], plain[2])
     assert probed[5] == plain[5] + 3 * WIDENINGS

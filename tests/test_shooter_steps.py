@@ -10,7 +10,8 @@ import graspforce as gf
 from graspforce._distance import scratch
 from graspforce._kernel import support
 from graspforce._shooters import (HIT, WITH_IE, _matvec, _pivot, _restart, _simplex_exit,
-                                  _zc_from_3, _zc_from_6, _zc_from_9, _zc_from_any, zc_from)
+                                  _zc_loop_3, _zc_loop_6, _zc_loop_9, _zc_loop_any, start_state,
+                                  zc_drive, zc_from, zc_work)
 
 
 def on_ray_simplex(rng, n, k, r):
@@ -120,9 +121,9 @@ def test_pivot_keeps_the_facet_inverse(n):
         np.testing.assert_allclose(gam, inverse @ r, rtol=1e-9, atol=1e-11)
 
 
-@pytest.mark.parametrize("n, version", [(3, _zc_from_3), (6, _zc_from_6), (9, _zc_from_9)])
+@pytest.mark.parametrize("n, version", [(3, _zc_loop_3), (6, _zc_loop_6), (9, _zc_loop_9)])
 def test_zc_ie_compiled_for_its_dimension_agrees_with_the_general_version(n, version):
-    """The versions of zc_from compiled for n = 3, 6, 9 shoot as the general one does: both
+    """The versions of zc_from's loop compiled for n = 3, 6, 9 shoot as the general one does: both
     certify t* to eps on the same rays (a sum of an ellipsoid and a polytope, curved and flat
     faces, the origin inside), and their brackets overlap."""
     rng = np.random.default_rng(n)
@@ -136,10 +137,15 @@ def test_zc_ie_compiled_for_its_dimension_agrees_with_the_general_version(n, ver
     for _ in range(20):
         r = rng.standard_normal(n)
         shots = []
-        for shoot, args in ((version, ()), (_zc_from_any, (n,))):
-            out = shoot(ints, floats, r, ws, eps, 10000, WITH_IE, 0.0, np.empty((n + 2, n)),
-                        np.empty((n + 2, ws)), np.empty(n + 2), 0, 0, 0, np.empty((0, 0)),
-                        np.empty((0, 0)), *args)
+        for loop, args in ((version, ()), (_zc_loop_any, (n,))):
+            none = np.empty((0, 0))
+            simplex = np.empty((n + 2, n)), np.empty((n + 2, ws)), np.empty(n + 2)
+            work = zc_work(n, ws)
+            start_state(work[0], n, ws, 0.0, 0, 0, 0)
+            code = loop(ints, floats, r, ws, eps, 10000, WITH_IE, *simplex, none, none, *work,
+                        *args)
+            out = zc_drive(ints, floats, r, ws, eps, 10000, WITH_IE, *simplex, none, none,
+                           *work, code)
             assert out[0] == HIT
             assert out[2] - out[1] <= eps * out[1]
             shots.append((out[1], out[2]))
@@ -232,3 +238,4 @@ def test_secant_query_on_flat_faces_falls_back_to_facet_normals(n):
         for out in (secant, plain):
             assert_certified(out, lp.x[m], 1e-9)
         assert secant[5] <= plain[5] + 2
+
