@@ -4,7 +4,8 @@ When a query follows a similar one (an object pair that moved a little), the new
 near the old supporting hyperplane's touching point. Instead of ZC's search from the origin,
 take n support points in directions spread around the previous normal; if the ray crosses
 their facet (positive conic coordinates), IE steps start right there, with the probes'
-directions for IE's secant query (graspforce._shooters).
+directions for IE's secant query (graspforce._shooters). If it misses, the same secant model
+says where the normal at z_A(r) is: the next probes are centred there.
 """
 import numpy as np
 from numba import njit
@@ -12,18 +13,19 @@ from numba.extending import register_jitable
 
 from ._kernel import support
 from ._jit import borrowing, view
-from ._linalg import lu_factor, lu_solve, smallest
+from ._linalg import dot, lu_factor, lu_solve, smallest
 from ._packed import pack, pack_arrays
 from ._shooters import (HIT, LIMIT, MISS, ST_CALLS, ST_H, ST_IT, ST_KZ, ST_SINGULAR, ST_T,
                         ST_T_UP, WITH_IE, loop_arrays, reported_upper, start_state, zc_drive,
                         zc_family, zc_loop, zc_work, zc_work_size)
 
-# probe rounds before the cold start: spread, 4 spread, 16 spread. Recentring the next round
-# where the secant model through the probes puts the normal (sum_j gam_j d_j) was tried: fewer
-# support calls on the protocol (mean 22.2 -> 21.6) and random pairs (24.7 -> 24.2), but on the
-# moving pair of the warm-start benchmark the secant query stalled on the recentred facets (61
-# support calls against 33 from widened ones, 78 of 400 poses), so it was dropped (before the
-# secant query's gain rule, which catches such stalls: worth measuring again)
+# probe rounds before the cold start; a round that misses the ray recentres the next one (same
+# spread) where the secant model through its probes puts the normal at z_A(r), or, when the
+# model gives no centre, widens it by 4. Recentring against widening alone, zc-ie growth
+# support calls: protocol mean 21.9 -> 21.7, median 21 -> 20; random pairs' mean 21.6 -> 21.5
+# (BENCHMARKS.md, "Stop 29"). Without the secant query's gain rule the secant query stalled
+# on recentred facets of the warm-start benchmark's moving pair (61 support calls against 33,
+# stop 28); with it, they take 31.3 against 31.7
 WIDENINGS = 3
 
 
@@ -35,8 +37,9 @@ PROBES_MISSED = -1
 def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread, packed, e):
     """ZC-IE (section 3.4.2) from the facet of the support points in the directions
     normal + spread w_j (`normal` a unit vector), w_j the vertices of a regular simplex in the
-    plane orthogonal to `normal`, widened while the ray misses that facet; after WIDENINGS
-    rounds, cold ZC-IE. Writes the shot's arrays to packed[e:] (graspforce._packed) and returns
+    plane orthogonal to `normal`; while the ray misses that facet, the next probes are centred
+    at the secant model's normal sum_j gam_j d_j / sum_j gam_j (r = sum_j gam_j P_j), or
+    widened when that points away from r; after WIDENINGS rounds, cold ZC-IE. Writes the shot's arrays to packed[e:] (graspforce._packed) and returns
     its head (status, t, t_upper, h_n, iterations, support_calls, singular_steps, k)."""
     n = r.shape[0]
     # zc_from's loop's work array with room for the probes' (`_probe_arrays`): the probes and
@@ -52,14 +55,14 @@ def shoot_warm(ints, floats, r, ws, eps, max_iter, normal, spread, packed, e):
     # a stop that zc_from's counted driver settles (ZC's uncertified point: the Newton finish)
     rows, witnesses, lam, _ = _probe_arrays(work, n, ws)
     return pack(zc_drive(ints, floats, r, ws, eps, max_iter, WITH_IE + 0, rows[:n + 2],
-                         witnesses[:n + 2], lam, rows[:0], rows[n + 7:], work, piv, -head[0]),
+                         witnesses[:n + 2], lam, rows[:0], rows[n + 8:], work, piv, -head[0]),
                 packed, e)
 
 
 @register_jitable
 def _probe_size(n, ws):
     """Entries of the probes' arrays (`_probe_arrays`)."""
-    return (2 * n + 7) * n + (n + 3) * ws + n + 2 + 2 * n * n
+    return (2 * n + 8) * n + (n + 3) * ws + n + 2 + 2 * n * n
 
 
 @register_jitable
@@ -68,10 +71,10 @@ def _probe_arrays(work, n, ws):
     witnesses; weights; two n x n matrices) as views of shoot_warm's work array, after zc_from's
     loop's."""
     a = zc_work_size(n, ws)
-    b = a + (2 * n + 7) * n
+    b = a + (2 * n + 8) * n
     c = b + (n + 3) * ws
     d = c + n + 2
-    return (view(work, a, (2 * n + 7, n)), view(work, b, (n + 3, ws)), view(work, c, n + 2),
+    return (view(work, a, (2 * n + 8, n)), view(work, b, (n + 3, ws)), view(work, c, n + 2),
             view(work, d, (2, n, n)))
 
 
@@ -91,7 +94,7 @@ def _warm_shot(ints, floats, r, ws, eps, max_iter, normal, spread, work, piv, pa
     # the probes' unit directions turn on IE's secant query; no facet inverse to hand over: an
     # empty view
     code = zc_loop(ints, floats, r, ws, eps, max_iter, WITH_IE + 0, P, Wt, lam, rows[:0],
-                   rows[n + 7:], work, piv)
+                   rows[n + 8:], work, piv)
     if code != HIT and code != MISS and code != LIMIT:
         return -code, 0.0, 0.0, 0.0, 0, 0, 0, 0
     loop_rows, _, _, _, _, state = loop_arrays(work, n, ws)
@@ -105,24 +108,27 @@ def _warm_shot(ints, floats, r, ws, eps, max_iter, normal, spread, work, piv, pa
 @borrowing
 def _probe_facet(ints, floats, r, ws, normal, spread, rows, witnesses, lam, matrices, piv):
     """`shoot_warm`'s probe rounds: (t, support calls), t > 0 when the ray crosses the facet of
-    the probes P = rows[:n] (witnesses[:n], unit directions rows[n + 7:]) at t r = lam @ P,
+    the probes P = rows[:n] (witnesses[:n], unit directions rows[n + 8:]) at t r = lam @ P,
     else 0."""
     n = r.shape[0]
     P = rows[:n + 2]
-    v, d, w, point, gam = rows[n + 2], rows[n + 3], rows[n + 4], rows[n + 5], rows[n + 6]
+    v, d, w, point, gam, centre = (rows[n + 2], rows[n + 3], rows[n + 4], rows[n + 5],
+                                   rows[n + 6], rows[n + 7])
     # the probes' unit directions: with them, IE's steps may take the secant query
-    directions = rows[n + 7:]
+    directions = rows[n + 8:]
     Wt = witnesses[:n + 2]
     wit = witnesses[n + 2]
     M, lu = matrices[0], matrices[1]
-    # Householder reflection taking (1, ..., 1)/sqrt(n) to the normal: it maps the simplex
-    # e_j - 1/n, orthogonal to (1, ..., 1), into the normal's orthogonal plane
-    vv = 0.0
     for a in range(n):
-        v[a] = 1.0 / np.sqrt(n) - normal[a]
-        vv += v[a] * v[a]
+        centre[a] = normal[a]
     calls = 0
     for attempt in range(WIDENINGS):
+        # Householder reflection taking (1, ..., 1)/sqrt(n) to the centre: it maps the simplex
+        # e_j - 1/n, orthogonal to (1, ..., 1), into the centre's orthogonal plane
+        vv = 0.0
+        for a in range(n):
+            v[a] = 1.0 / np.sqrt(n) - centre[a]
+            vv += v[a] * v[a]
         for j in range(n):
             for a in range(n):
                 w[a] = (1.0 if a == j else 0.0) - 1.0 / n
@@ -134,7 +140,7 @@ def _probe_facet(ints, floats, r, ws, normal, spread, rows, witnesses, lam, matr
                     w[a] -= 2.0 * vw / vv * v[a]
             dd = 0.0
             for a in range(n):
-                d[a] = normal[a] + spread * w[a]
+                d[a] = centre[a] + spread * w[a]
                 dd += d[a] * d[a]
             support(ints, floats, d, point, wit)
             dn = 1.0 / np.sqrt(dd)
@@ -158,6 +164,22 @@ def _probe_facet(ints, floats, r, ws, normal, spread, rows, witnesses, lam, matr
                 for j in range(n):
                     lam[j] = gam[j] * t
                 return t, calls
-        # a wider spread when the ray misses the facet: the pose moved more than expected
+            # the ray misses the facet. The secant model through the probes (IE's secant query,
+            # graspforce._shooters) extrapolates to the normal at z_A(r):
+            # sum_j gam_j d_j / sum_j gam_j. The next probes are centred there
+            cr = 0.0
+            for a in range(n):
+                s = 0.0
+                for j in range(n):
+                    s += gam[j] * directions[j, a]
+                w[a] = s
+                cr += s * r[a]
+            # gs > 0: r is beyond the probes' hyperplane, the model's weights are affine ones
+            if gs > 0.0 and cr > 0.0:
+                cn = 1.0 / np.sqrt(dot(w, w))
+                for a in range(n):
+                    centre[a] = w[a] * cn
+                continue
+        # a wider spread when that fails too: the pose moved more than expected
         spread *= 4.0
     return 0.0, calls

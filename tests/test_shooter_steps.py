@@ -239,3 +239,27 @@ def test_secant_query_on_flat_faces_falls_back_to_facet_normals(n):
             assert_certified(out, lp.x[m], 1e-9)
         assert secant[5] <= plain[5] + 2
 
+
+@pytest.mark.parametrize("n", [3, 5])
+def test_probes_that_miss_the_ray_are_recentred_by_the_secant_model(n):
+    """On a ball the secant model through probes that miss the ray extrapolates to r's
+    direction exactly (P_j = rho d_j, so r = sum_j gam_j P_j is along sum_j gam_j d_j): the
+    second round of probes, centred there at the same spread, holds the ray, and the secant
+    query then reaches z_A(r) = rho r / |r| in two steps."""
+    from graspforce._packed import capacity
+    from graspforce._warm import shoot_warm
+    rng = np.random.default_rng(20 + n)
+    rho = 1.3
+    A = gf.Ball(np.zeros(n), rho)
+    ints, floats = A.program
+    packed = np.empty(capacity(n, A.witness_size))
+    for _ in range(10):
+        r = rng.standard_normal(n)
+        # a guessed normal 80 degrees off r: probes at spread 0.05 around it miss the ray
+        side = rng.standard_normal(n)
+        side -= (side @ r) / (r @ r) * r
+        guess = np.cos(np.radians(80)) * r / np.linalg.norm(r) + \
+            np.sin(np.radians(80)) * side / np.linalg.norm(side)
+        out = shoot_warm(ints, floats, r, A.witness_size, 1e-9, 1000, guess, 0.05, packed, 0)
+        assert_certified(out, rho / np.linalg.norm(r), 1e-12)
+        assert out[4] <= 2 and out[5] == 2 * n + out[4]
