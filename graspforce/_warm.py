@@ -16,8 +16,8 @@ from ._jit import borrowing, view
 from ._linalg import dot, lu_factor, lu_solve, smallest
 from ._packed import pack, pack_arrays
 from ._shooters import (HIT, LIMIT, MISS, ST_CALLS, ST_H, ST_IT, ST_KZ, ST_SINGULAR, ST_T,
-                        ST_T_UP, WITH_IE, loop_arrays, reported_upper, start_state, zc_drive,
-                        zc_family, zc_loop, zc_work, zc_work_size)
+                        ST_T_UP, WITH_IE, loop_rows_state, reported_upper, start_state,
+                        zc_drive, zc_family, zc_loop, zc_work, zc_work_size)
 
 # probe rounds before the cold start; a round that misses the ray recentres the next one (same
 # spread) where the secant model through its probes puts the normal at z_A(r), or, when the
@@ -97,7 +97,7 @@ def _warm_shot(ints, floats, r, ws, eps, max_iter, normal, spread, work, piv, pa
                    rows[n + 8:], work, piv)
     if code != HIT and code != MISS and code != LIMIT:
         return -code, 0.0, 0.0, 0.0, 0, 0, 0, 0
-    loop_rows, _, _, _, _, state = loop_arrays(work, n, ws)
+    loop_rows, state = loop_rows_state(work, n, ws)
     t = state[ST_T]
     kz = int(state[ST_KZ])
     pack_arrays(loop_rows[n + 2], P, lam, Wt, kz, packed, e)
