@@ -30,15 +30,9 @@ subspace: ~320 of ~530 on the ingot's lift in R^9, where the table cuts ZC's 11 
 no facet and started cold, ~9 us slower each.)
 """
 import numpy as np
-from numba import njit
 from scipy.spatial import ConvexHull, QhullError
 
-from ._dispatch import shoot, unstall
-from ._ie import ie_from
-from ._jit import borrowing
 from ._kernel import params_size
-from ._shooters import (BI_GJK, IE, WITH_IE, WITH_NEWTON, ZC_IE, ZC_IE_NEWTON, bi_gjk_from,
-                        zc_from)
 
 MAX_DIM = 8
 MAX_HULL_DIM = 9      # rays in a subspace of dimension <= MAX_DIM: Qhull in up to R^9 (W_Linf's
@@ -160,117 +154,3 @@ def _table(A, directions, k):
     # normals by coordinate, (n, F): see table_start
     return np.concatenate((header, floats[:npar], normals.T.ravel(), inverse.ravel(),
                            faces.ravel(), points.ravel(), witnesses.ravel())).astype(float)
-
-
-@njit(cache=True, inline='always')
-def _weights(table, b0, f, r, lam):
-    """lam = B_f r, the weights of r on facet f's vertices, and their sum; 0.0 when one is
-    negative (the ray does not cross that simplex)."""
-    n = r.shape[0]
-    total = 0.0
-    for j in range(n):
-        s = 0.0
-        for a in range(n):
-            s += table[b0 + (f * n + j) * n + a] * r[a]
-        if s < 0.0:
-            return 0.0
-        lam[j] = s
-        total += s
-    return total
-
-
-@borrowing
-def table_start(table, floats, r, P, Wt, lam, y, B, scores):
-    """t_0 > 0 with the facet of the table's CH(P_0) that R(r) leaves through in P[:n], Wt[:n],
-    its weights lam[:n] (t_0 r = sum lam_j P_j), its hyperplane y^T x = 1 in y and the inverse of
-    [P_0 .. P_{n-1}] in B; 0.0 when the table does not apply. scores: work of F entries.
-
-    table = [F, n, ws, npar, npts, the set's parameters (npar), y_f by coordinate (n, F), B_f
-    (F, n, n), vertex indices (F, n), points (npts, n), witnesses (npts, ws)]."""
-    n = r.shape[0]
-    if table.shape[0] == 0 or int(table[1]) != n:
-        return 0.0
-    F = int(table[0])
-    ws = int(table[2])
-    npar = int(table[3])
-    for i in range(npar):
-        if floats[i] != table[HEADER + i]:
-            return 0.0
-    y0 = HEADER + npar
-    b0 = y0 + F * n
-    i0 = b0 + F * n * n
-    p0 = i0 + F * n
-    w0 = p0 + int(table[4]) * n
-    # y_f^T r of all facets a coordinate at a time, on a 2-D view: the inner loop runs along F
-    # and vectorizes (its indices provably >= 0), where one facet's product waits on each of
-    # its n additions (ingot, F = 87: 0.29 -> 0.12 us a lookup, jitted loop over 1000 rays)
-    # ... skipping the coordinates where r is 0 (W_Linf's lift: the first m - 1)
-    Yt = table[y0:y0 + n * F].reshape(n, F)
-    for g in range(F):
-        scores[g] = 0.0
-    for a in range(n):
-        ra = r[a]
-        if ra == 0.0:
-            continue
-        for g in range(F):
-            scores[g] += Yt[a, g] * ra
-    best = 0.0
-    f = -1
-    for g in range(F):
-        if scores[g] > best:
-            best = scores[g]
-            f = g
-    if f < 0:
-        return 0.0
-    total = _weights(table, b0, f, r, lam)
-    if total == 0.0:
-        # the ray's exit facet of CH(P_0) has more than n points and Qhull split it into
-        # simplices that tie in y_f^T r: the one that holds the exit point has lam >= 0
-        for g in range(F):
-            if g != f and scores[g] >= (1.0 - TIE_TOL) * best:
-                total = _weights(table, b0, g, r, lam)
-                if total > 0.0:
-                    f = g
-                    break
-        if total == 0.0:
-            return 0.0
-    t = 1.0 / total
-    for a in range(n):
-        y[a] = Yt[a, f]
-        for j in range(n):
-            B[a, j] = table[b0 + (f * n + a) * n + j]
-    for j in range(n):
-        lam[j] *= t
-        v = int(table[i0 + f * n + j])
-        for a in range(n):
-            P[j, a] = table[p0 + v * n + a]
-        for a in range(ws):
-            Wt[j, a] = table[w0 + v * ws + a]
-    return t
-
-
-@njit(cache=True)
-def shoot_with_table(ints, floats, r, ws, method, eps, max_iter, table):
-    """`shoot` (graspforce._dispatch), with IE's and ZC-IE's steps started on the table's facet
-    when the table applies (module docstring), and Bi-GJK's bisection between that facet's point
-    and the bound of its normal; the table's own support calls are not counted."""
-    if (method == ZC_IE or method == ZC_IE_NEWTON or method == BI_GJK or method == IE) and \
-            table.shape[0] > 0:
-        n = r.shape[0]
-        P = np.empty((n + 2, n))
-        Wt = np.empty((n + 2, ws))
-        lam = np.empty(n + 2)
-        y = np.empty(n)
-        B = np.empty((n, n))
-        t = table_start(table, floats, r, P, Wt, lam, y, B, np.empty(int(table[0])))
-        if t > 0.0:
-            if method == BI_GJK:
-                out = bi_gjk_from(ints, floats, r, ws, eps, max_iter, t, P, Wt, lam, n, y, 0)
-            elif method == IE:
-                out = ie_from(ints, floats, r, ws, eps, max_iter, P, Wt, 0, 0)
-            else:
-                mode = WITH_IE if method == ZC_IE else WITH_NEWTON
-                out = zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, n, 0, 0,
-                              B, B[:0])
-            return unstall(ints, floats, r, ws, eps, max_iter, out)
-    return shoot(ints, floats, r, ws, method, eps, max_iter)

@@ -1,8 +1,7 @@
 """gf.closest_point (GJK, section 2.2) and gf.cone_distance (ZC, section 2.3)."""
 import numpy as np
 
-from . import _distance as D
-from . import _entry
+from . import _core as D
 from ._validate import finite_array, finite_scalar, positive_int
 from .results import ClosestPoint, ConeDistance
 from .sets import ConvexSet
@@ -24,7 +23,7 @@ def closest_point(A, b, eps=1e-12, max_iter=1000):
     """
     b, eps, max_iter = _check(A, b, eps, max_iter)
     ints, floats = A.program
-    st, d, gap, it, calls, v, V, lam, W = _entry.closest_point(ints, floats, b, A.witness_size,
+    st, d, gap, it, calls, v, V, lam, W = D.closest_point(ints, floats, b, A.witness_size,
                                                                eps, max_iter)
     status = {D.CONVERGED: "converged", D.STALLED: "converged", D.INSIDE: "inside",
               D.MAX_ITER: "max_iter"}[st]
@@ -42,7 +41,7 @@ def cone_distance(A, b, eps=1e-12, max_iter=1000):
     if not np.any(b):
         raise ValueError("b: must be nonzero (its distance to any cone is 0 at the apex)")
     ints, floats = A.program
-    st, d, h, it, calls, v, nvec, V, lam, W = _entry.cone_distance(ints, floats, b,
+    st, d, h, it, calls, v, nvec, V, lam, W = D.cone_distance(ints, floats, b,
                                                                    A.witness_size, eps,
                                                                    max_iter)
     status = {D.CONVERGED: "outside", D.STALLED: "outside", D.INSIDE: "inside",

@@ -3,11 +3,9 @@ import math
 
 import numpy as np
 
-from ._forces import BAD_WRENCH, SIGNATURE, ZERO_WRENCH, shoot_and_read_forces
-from ._shooters import HIT, MISS
-from ._signature import entry_point, is_vector
+from ._core import BAD_WRENCH, HIT, MISS, ZERO_WRENCH, shoot_and_read_forces
 from ._start_table import start_table
-from ._validate import check_choice, finite_vector
+from ._validate import check_choice, finite_vector, is_vector
 from .contact import Contact
 from .quality import facet_expansion, grasp_quality
 from .ray_shoot import METHODS, check_tolerances
@@ -63,7 +61,7 @@ class Grasp:
         if space is None:
             space = self._spaces[key] = WrenchSpace(self.contacts, norm, magnitude,
                                                     self.contact_matrices)
-            space.shoot = entry_point(shoot_and_read_forces, SIGNATURE)
+            space.shoot = shoot_and_read_forces
         return space
 
     def min_force(self, w_ext, norm="L1", magnitude="normal", method="zc-ie", eps=1e-9,

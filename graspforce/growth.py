@@ -27,12 +27,12 @@ B(sigma) in {x : n^T x >= n^T point_b}. So n, normalized, is the contact normal 
 """
 import numpy as np
 
-from ._growth import (BAD_POSE_A, COINCIDENT, EPS, FRAME, MA, MAX_ITER, MB, METHOD,
-                      NOT_CERTIFIED, OK, PENETRATING, POSES, SEPARATED, SIGNATURE, SPREAD, TAIL,
-                      TOUCHING, TOUCHING_TOL, WARM_SPREAD, WARM_START, WS, query)
+from ._core import capacity
+from ._core import growth_query as query
+from ._core.growth import (BAD_POSE_A, COINCIDENT, EPS, FRAME, MA, MAX_ITER, MB, METHOD,
+                           NOT_CERTIFIED, OK, PENETRATING, POSES, SEPARATED, SPREAD, TAIL,
+                           TOUCHING, TOUCHING_TOL, WARM_SPREAD, WARM_START, WS)
 from ._kernel import children, param_start
-from ._packed import capacity
-from ._signature import one_signature
 from ._validate import check_choice, finite_array
 from .quality import facet_expansion
 from .ray_shoot import METHODS, check_tolerances, make_ray_shot
@@ -112,14 +112,13 @@ class GrowthDistance:
             ma, mb, ws, self._code, self.max_iter, self.warm_start, self.eps, touching_tol,
             WARM_SPREAD)
         self._size = FRAME + capacity(3, ws)
-        one_signature(query, SIGNATURE)
 
     def __call__(self, pose_a, pose_b):
         """The GrowthDistanceResult at these poses."""
         packed = np.empty(self._size)
         try:
             # the common call, (R, p) pairs of float64 arrays, goes straight to the compiled
-            # query; anything else fails it with a TypeError (one compiled signature) or fails
+            # query; anything else fails it with a TypeError (it takes float64 arrays only) or fails
             # to unpack, and is converted below
             (R_a, p_a), (R_b, p_b) = pose_a, pose_b
             res = query(self._ints, self._floats, R_a, p_a, R_b, p_b, packed)

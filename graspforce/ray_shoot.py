@@ -2,14 +2,11 @@
 import math
 
 import numpy as np
-from numba import njit, types
 
-from . import _shooters as S
-from ._linalg import dot
-from ._packed import capacity, pack
-from ._signature import INTS, VECTOR, entry_point, is_vector
-from ._start_table import shoot_with_table, start_table
-from ._validate import check_choice, finite_scalar, finite_vector, positive_int
+from . import _core as S
+from ._core import BAD_RAY, capacity, shoot_packed
+from ._start_table import start_table
+from ._validate import check_choice, finite_scalar, finite_vector, is_vector, positive_int
 from .results import RayShot
 from .sets import ConvexSet
 
@@ -76,25 +73,8 @@ def shot_layout(A):
         raise TypeError(f"A: expected a graspforce convex set, got {type(A).__name__}")
     ints, floats = A.program
     ws = A.witness_size
-    A._shot_layout = (ints, floats, ws, capacity(A.dim, ws),
-                      entry_point(shoot_packed, SHOT_SIGNATURE))
+    A._shot_layout = (ints, floats, ws, capacity(A.dim, ws), shoot_packed)
     return A._shot_layout
-
-
-BAD_RAY = -1   # shoot_packed's status for an r that is not finite or is zero
-SHOT_SIGNATURE = (INTS, VECTOR, VECTOR, types.int64, types.int64, types.float64, types.int64,
-                  VECTOR, VECTOR)
-
-
-@njit(cache=True)
-def shoot_packed(ints, floats, r, ws, method, eps, max_iter, packed, table):
-    """The head of the shot; its arrays into `packed` (graspforce._packed). Status BAD_RAY and
-    no shot when r is not finite or is zero. table: the set's start table
-    (graspforce._start_table) or an empty array."""
-    rr = dot(r, r)
-    if not (0.0 < rr < np.inf):
-        return BAD_RAY, 0.0, 0.0, 0.0, 0, 0, 0, 0
-    return pack(shoot_with_table(ints, floats, r, ws, method, eps, max_iter, table), packed, 0)
 
 
 def make_ray_shot(A, r, method, head, packed, extra=0):

@@ -36,8 +36,8 @@ whose weights sum to 1/m.
 """
 import numpy as np
 
-from ._forces import extra_size, force_reader
-from ._packed import capacity
+from ._core import capacity, extra_size
+from ._forces import force_reader
 from .sets import ConeCap, Ellipsoid, Polytope, affine, hull, minkowski_sum
 
 NORMS = ("L1", "Linf")

@@ -1,0 +1,255 @@
+// The functions one part of the core calls in another, declared once. Each is defined in the
+// header named beside it; core.cpp includes them all, in the order of the layers.
+#pragma once
+
+#include <utility>
+
+#include "arrays.hpp"
+#include "codes.hpp"
+
+namespace gf {
+
+// ---- kernel.hpp -------------------------------------------------------------------------
+// h_A(u) (returned) and s_A(u) (into point) of eq. (2); the witness goes into wit.
+double support(IVec ints, Vec f, Vec u, Vec point, Vec wit);
+
+// ---- linalg.hpp -------------------------------------------------------------------------
+inline double dot(Vec a, Vec b) {
+    double s = 0.0;
+    for (Int i = 0; i < a.n; ++i) s += a[i] * b[i];
+    return s;
+}
+inline double smallest(Vec x, Int n) {
+    double m = x[0];
+    for (Int i = 1; i < n; ++i) m = std::min(m, x[i]);
+    return m;
+}
+bool lstsq(Mat D, Int n, Int q, Vec rhs, Vec x, Int x0, Mat work, Vec wrhs);
+Int lstsq_append(Mat D, Int n, Int q, Int fact, Vec rhs, Vec x, Mat work, Vec wrhs, Mat house);
+bool lu_factor(Mat M, Int n, Mat lu, IVec piv);
+bool invert(Mat M, Int n, Mat B, IVec piv);
+void lu_solve(Mat lu, IVec piv, Int n, Vec b, Vec x);
+void lu_solve_t(Mat lu, IVec piv, Int n, Vec b, Vec x);
+Int solve_basic(Mat M, Int n, Mat lu, IVec prow, IVec pcol, Vec b, Vec x, double tol = 1e-13);
+void basic_null_space(Mat lu, IVec pcol, Int n, Int rank, Mat Z, Vec w);
+
+// ---- corral.hpp -------------------------------------------------------------------------
+inline void set_row(Mat P, Mat Wt, Int j, Vec point, Vec wit) {
+    for (Int i = 0; i < P.cols; ++i) P(j, i) = point[i];
+    for (Int i = 0; i < Wt.cols; ++i) Wt(j, i) = wit[i];
+}
+inline Int drop_point(Mat P, Mat Wt, Vec lam, Int k, Int j) {
+    for (Int i = j; i < k - 1; ++i) {
+        for (Int a = 0; a < P.cols; ++a) P(i, a) = P(i + 1, a);
+        for (Int a = 0; a < Wt.cols; ++a) Wt(i, a) = Wt(i + 1, a);
+        lam[i] = lam[i + 1];
+    }
+    return k - 1;
+}
+// (||sum_j x_j P_j - b||^2, ||b||^2) over the rows P[:k]
+inline std::pair<double, double> residual2(Mat P, Vec x, Int k, Vec b) {
+    double res = 0.0, bn = 0.0;
+    for (Int i = 0; i < P.cols; ++i) {
+        double e = -b[i];
+        for (Int j = 0; j < k; ++j) e += x[j] * P(j, i);
+        res += e * e;
+        bn += b[i] * b[i];
+    }
+    return {res, bn};
+}
+bool reproduce(Mat P, Vec x, Int k, Vec b);
+double weights_on_ray(Mat S, Int m, Vec r, Vec x, Mat D, Mat work, Vec wrhs, Vec rhs);
+inline void combine(Mat P, Vec lam, Int k, Vec out) {
+    for (Int i = 0; i < P.cols; ++i) out[i] = 0.0;
+    for (Int j = 0; j < k; ++j)
+        for (Int i = 0; i < P.cols; ++i) out[i] += lam[j] * P(j, i);
+}
+
+// ---- distance.hpp -----------------------------------------------------------------------
+// the work arrays of the active-set subproblem (Python's `scratch(n)` tuple, in its order)
+struct Scratch {
+    Mat D;      // (n, n + 1)
+    Mat work;   // (n, n + 1)
+    Vec rhs;    // (n)
+    Vec wrhs;   // (n)
+    Vec x;      // (n + 2)
+    Mat house;  // (3, n + 1)
+};
+// Python's scratch_of(rows, x, n): rows (2n + 5, n + 1), x (n + 2)
+inline Scratch scratch_of(Mat rows, Vec x, Int n) {
+    return {rows.top(n), rows.rows_range(n, 2 * n), rows.row(2 * n + 3).head(n),
+            rows.row(2 * n + 4).head(n), x, rows.rows_range(2 * n, 2 * n + 3)};
+}
+// Python's scratch(n): owns its arrays
+struct ScratchArrays {
+    Array rows, x;
+    Scratch sc;
+    explicit ScratchArrays(Int n) : rows(2 * n + 5, n + 1), x(n + 2) {
+        sc = scratch_of(rows.mat(), x.vec(), n);
+    }
+    ScratchArrays(const ScratchArrays&) = delete;
+    ScratchArrays& operator=(const ScratchArrays&) = delete;
+};
+// (status, k, d, h, iterations, support_calls) of gjk and zc
+struct DistOut {
+    Int status;
+    Int k;
+    double d;
+    double h;
+    Int it;
+    Int calls;
+};
+DistOut gjk(IVec ints, Vec floats, Vec b, Mat P, Mat Wt, Vec lam, Int k, double eps_rel,
+            double eps_abs, bool rel_to_offset, Int max_iter, Vec nvec, Vec v, Vec point,
+            Vec wit, const Scratch& sc);
+DistOut zc(IVec ints, Vec floats, Vec shift, Vec target, Mat P, Mat Wt, Vec lam, Int k,
+           double eps_rel, double eps_abs, Int max_iter, Vec nvec, Vec v, Vec point, Vec wit,
+           const Scratch& sc);
+
+// ---- newton.hpp -------------------------------------------------------------------------
+// Python's tuple (ok, t, t_upper, h_n, m, newton_steps, support_calls, normal, V, weights, W);
+// V, weights, W hold at least m rows
+struct NewtonOut {
+    bool ok;
+    double t;
+    double t_up;
+    double h;
+    Int m;
+    Int steps;
+    Int calls;
+    Array normal;
+    Array V;        // (>= m, n)
+    Array weights;  // (>= m)
+    Array W;        // (>= m, ws)
+};
+NewtonOut newton_finish(IVec ints, Vec f, Vec r, double eps, Mat P, Mat Wt, Vec lam, Int k,
+                        Vec normal, double t, bool corner);
+
+// ---- shot.hpp ---------------------------------------------------------------------------
+// a shooter's result, Python's 11-tuple of _result:
+//   out[0] status, out[1] t, out[2] t_up, out[3] h_n, out[4] iters, out[5] calls,
+//   out[6] normal (n), out[7] V (k, n), out[8] lam (k), out[9] W (k, ws), out[10] singular
+struct Shot {
+    Int status = LIMIT;
+    double t = 0.0;
+    double t_up = 0.0;
+    double h_n = 0.0;
+    Int iters = 0;
+    Int calls = 0;
+    Array normal;
+    Array V;
+    Array lam;
+    Array W;
+    Int singular = 0;
+    Int k() const { return V.rows; }
+};
+// a hit's t_upper, below t by at most FACE_ROUNDING (relative), is t
+double reported_upper(Int status, double t, double t_up);
+// Python's _result: copies normal, P[:k], lam[:k], Wt[:k]; t_up through reported_upper
+Shot make_result(Int status, double t, double t_up, double h_n, Int iters, Int calls,
+                 Vec normal, Mat P, Vec lam, Mat Wt, Int k, Int singular);
+// Python's _keep: save the simplex P[:k] (Wt, lam) into Pz, Wz, lz; changed >= 0: only that row
+// of P and Wt differs from what Pz, Wz hold. Returns k.
+Int keep(Mat P, Mat Wt, Vec lam, Int k, Mat Pz, Mat Wz, Vec lz, Int changed = -1);
+// Python's _holds: whether lam[:k] of P[:k] reproduce t r (written to b) to tol relative
+bool holds(Mat P, Vec lam, Int k, double t, Vec r, Vec b, double tol);
+constexpr double FACET_HOLDS = 1e-12;   // holds: an IE step's facet weights
+constexpr double POINT_HOLDS = 1e-9;    // holds: ZC's and Bi-GJK's final point
+
+// ---- zc_family.hpp ----------------------------------------------------------------------
+// Pz, Wz, lz: the caller's, at least n + 2 rows (written to). inverse: (n, n) or 0 rows.
+// directions: at least n rows of unit support directions of Pz[:n], or 0 rows.
+Shot zc_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int mode,
+             double t, Mat Pz, Mat Wz, Vec lz, Int kz, Int it, Int calls, Mat inverse,
+             Mat directions);
+Shot zc_family(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int mode);
+
+// ---- gjk_based.hpp, bi_gjk.hpp ------------------------------------------------------------
+Shot gjk_based(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter);
+Shot bi_gjk(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter);
+// P, Wt, lam: at least n + 2 rows
+Shot bi_gjk_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, double t_lo,
+                 Mat P, Mat Wt, Vec lam, Int k, Vec u, Int calls);
+
+// ---- ie.hpp -----------------------------------------------------------------------------
+Shot ie(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter);
+Shot ie_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Mat V, Mat Wv,
+             Int it, Int calls);
+
+// ---- dispatch.hpp -----------------------------------------------------------------------
+Shot shoot(IVec ints, Vec floats, Vec r, Int ws, Int method, double eps, Int max_iter);
+Shot unstall(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Shot out);
+
+// ---- start_table.hpp --------------------------------------------------------------------
+Shot shoot_with_table(IVec ints, Vec floats, Vec r, Int ws, Int method, double eps,
+                      Int max_iter, Vec table);
+
+// ---- packed.hpp -------------------------------------------------------------------------
+// (status, t, t_upper, h_n, iterations, support_calls, singular_steps, k)
+struct Head {
+    Int status;
+    double t;
+    double t_up;
+    double h_n;
+    Int iters;
+    Int calls;
+    Int singular;
+    Int k;
+};
+inline Int capacity(Int n, Int ws) { return n + (n + 2) * (1 + n + ws); }
+void pack_arrays(Vec normal, Mat V, Vec lam, Mat W, Int k, Vec packed, Int e);
+Head pack(const Shot& out, Vec packed, Int e);
+
+// ---- entry points (the bindings call these) -----------------------------------------------
+// ray_shoot.py's shoot_packed: status BAD_RAY and no shot when r is not finite or is zero
+constexpr Int BAD_RAY = -1;
+Head shoot_packed(IVec ints, Vec floats, Vec r, Int ws, Int method, double eps, Int max_iter,
+                  Vec packed, Vec table);
+// forces.hpp: statuses that say no shot was made
+constexpr Int BAD_WRENCH = -1;
+constexpr Int ZERO_WRENCH = -2;
+Head shoot_and_read_forces(Vec w_ext, Int method, double eps, Int max_iter, Vec packed,
+                           Vec start, IVec ints, Vec floats, Vec reader);
+// warm.hpp
+Head shoot_warm(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Vec normal,
+                double spread, Vec packed, Int e);
+// growth.hpp: (code, verdict, sigma, sigma_lower, sigma_upper, iterations, support_calls)
+struct GrowthOut {
+    Int code;
+    Int verdict;
+    double sigma;
+    double lower;
+    double upper;
+    Int iterations;
+    Int calls;
+};
+GrowthOut growth_query(IVec ints, Vec floats, Mat R_a, Vec p_a, Mat R_b, Vec p_b, Vec packed);
+// entry.hpp: gf.closest_point's (st, d, gap, it, calls, v, V, lam, W)
+struct ClosestOut {
+    Int status;
+    double d;
+    double gap;
+    Int it;
+    Int calls;
+    Array v;
+    Array V;
+    Array lam;
+    Array W;
+};
+ClosestOut closest_point(IVec ints, Vec floats, Vec b, Int ws, double eps, Int max_iter);
+// gf.cone_distance's (st, d, h, it, calls, v, nvec, V, lam, W)
+struct ConeOut {
+    Int status;
+    double d;
+    double h;
+    Int it;
+    Int calls;
+    Array v;
+    Array normal;
+    Array V;
+    Array lam;
+    Array W;
+};
+ConeOut cone_distance(IVec ints, Vec floats, Vec b, Int ws, double eps, Int max_iter);
+
+}  // namespace gf

@@ -1,0 +1,89 @@
+// Views and owning arrays for the compiled core.
+//
+// The algorithms work on small dense arrays: vectors of n <= ~20 entries and row-major
+// matrices whose rows are points of a set (simplices, facets, witnesses). A view is a pointer
+// and a shape, passed by value; an Array owns its entries. Nothing here allocates but Array.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace gf {
+
+using Int = std::int64_t;
+
+constexpr double INF = std::numeric_limits<double>::infinity();
+
+// a float64 vector view
+struct Vec {
+    double* d = nullptr;
+    Int n = 0;
+    double& operator[](Int i) const { return d[i]; }
+    // x[:k]
+    Vec head(Int k) const { return {d, k}; }
+    // x[a:a + k]
+    Vec segment(Int a, Int k) const { return {d + a, k}; }
+    // x[a:]
+    Vec tail_from(Int a) const { return {d + a, n - a}; }
+};
+
+// an int64 vector view (programs, pivots)
+struct IVec {
+    Int* d = nullptr;
+    Int n = 0;
+    Int& operator[](Int i) const { return d[i]; }
+    IVec head(Int k) const { return {d, k}; }
+};
+
+// a row-major float64 matrix view: rows of `cols` entries, `ld` apart
+struct Mat {
+    double* d = nullptr;
+    Int rows = 0;
+    Int cols = 0;
+    Int ld = 0;
+    double& operator()(Int i, Int j) const { return d[i * ld + j]; }
+    // M[i]
+    Vec row(Int i) const { return {d + i * ld, cols}; }
+    // M[:k]
+    Mat top(Int k) const { return {d, k, cols, ld}; }
+    // M[a:b]
+    Mat rows_range(Int a, Int b) const { return {d + a * ld, b - a, cols, ld}; }
+    // M[a:]
+    Mat rows_from(Int a) const { return {d + a * ld, rows - a, cols, ld}; }
+    // M[:, :c] (the same rows, their first c entries)
+    Mat left(Int c) const { return {d, rows, c, ld}; }
+};
+
+// a contiguous matrix view laid over a vector's entries from `start`: numba's
+// view(buf, start, (rows, cols))
+inline Mat mat_view(Vec buf, Int start, Int rows, Int cols) {
+    return {buf.d + start, rows, cols, cols};
+}
+
+// an owning float64 array of one or two dimensions (entries zero-initialized)
+struct Array {
+    std::vector<double> data;
+    Int rows = 0;   // a vector's length, or a matrix's rows
+    Int cols = 0;   // a matrix's columns (0 for a vector)
+    int ndim = 1;
+    Array() = default;
+    explicit Array(Int n) : data(static_cast<size_t>(n)), rows(n), cols(0), ndim(1) {}
+    Array(Int r, Int c) : data(static_cast<size_t>(r * c)), rows(r), cols(c), ndim(2) {}
+    Vec vec() { return {data.data(), static_cast<Int>(data.size())}; }
+    Mat mat() { return {data.data(), rows, cols, cols}; }
+    Int size() const { return static_cast<Int>(data.size()); }
+};
+
+// an owning int64 array
+struct IArray {
+    std::vector<Int> data;
+    IArray() = default;
+    explicit IArray(Int n) : data(static_cast<size_t>(n)) {}
+    IVec vec() { return {data.data(), static_cast<Int>(data.size())}; }
+};
+
+}  // namespace gf

@@ -1,0 +1,220 @@
+// graspforce._core: the compiled core as seen from Python.
+//
+// Every entry point takes NumPy arrays of exactly the documented kind (C-contiguous float64, or
+// int64 for programs) and refuses anything else with a TypeError, without converting: several of
+// them write into their arguments (the packed result, the program's scratch), which a converted
+// copy would lose. The computation runs with the GIL released.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/tuple.h>
+
+#include <cstring>
+#include <tuple>
+#include <utility>
+
+#include "all.hpp"
+#include "testing.hpp"
+#include "timing.hpp"
+
+namespace nb = nanobind;
+using namespace nb::literals;
+
+namespace {
+
+// arrays the core writes to (a program's scratch, a packed result), and arrays it only reads,
+// which may be read-only
+using F1 = nb::ndarray<double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using I1 = nb::ndarray<std::int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using In1 = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using In2 = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+
+gf::Vec vec(F1& a) { return {a.data(), static_cast<gf::Int>(a.shape(0))}; }
+gf::IVec ivec(I1& a) { return {a.data(), static_cast<gf::Int>(a.shape(0))}; }
+// the core takes views of mutable doubles; it does not write to the arrays passed as In1, In2
+gf::Vec vec(In1& a) {
+    return {const_cast<double*>(a.data()), static_cast<gf::Int>(a.shape(0))};
+}
+gf::Mat mat(In2& a) {
+    const auto cols = static_cast<gf::Int>(a.shape(1));
+    return {const_cast<double*>(a.data()), static_cast<gf::Int>(a.shape(0)), cols, cols};
+}
+
+// a NumPy array that takes over an Array's entries
+nb::object numpy(gf::Array&& a) {
+    auto* owned = new gf::Array(std::move(a));
+    nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<gf::Array*>(p); });
+    size_t shape[2] = {static_cast<size_t>(owned->rows), static_cast<size_t>(owned->cols)};
+    return nb::cast(nb::ndarray<nb::numpy, double>(owned->data.data(),
+                                                    static_cast<size_t>(owned->ndim), shape,
+                                                    owner));
+}
+
+using HeadTuple = std::tuple<gf::Int, double, double, double, gf::Int, gf::Int, gf::Int, gf::Int>;
+
+HeadTuple head_tuple(const gf::Head& h) {
+    return {h.status, h.t, h.t_up, h.h_n, h.iters, h.calls, h.singular, h.k};
+}
+
+nb::tuple shot_tuple(gf::Shot&& s) {
+    return nb::make_tuple(s.status, s.t, s.t_up, s.h_n, s.iters, s.calls,
+                          numpy(std::move(s.normal)), numpy(std::move(s.V)),
+                          numpy(std::move(s.lam)), numpy(std::move(s.W)), s.singular);
+}
+
+}  // namespace
+
+NB_MODULE(_core, m) {
+    m.doc() = "The compiled core of graspforce: support programs, GJK, ZC and the ray shooters.";
+
+    m.def(
+        "support",
+        [](I1 ints, F1 floats, In1 u, F1 point, F1 wit) {
+            nb::gil_scoped_release nogil;
+            return gf::support(ivec(ints), vec(floats), vec(u), vec(point), vec(wit));
+        },
+        "ints"_a.noconvert(), "floats"_a.noconvert(), "u"_a.noconvert(),
+        "point"_a.noconvert(), "wit"_a.noconvert(),
+        "h_A(u) (returned) and s_A(u) (into point) of eq. (2); the witness into wit.");
+
+    m.def(
+        "closest_point",
+        [](I1 ints, F1 floats, In1 b, gf::Int ws, double eps, gf::Int max_iter) {
+            gf::ClosestOut out;
+            {
+                nb::gil_scoped_release nogil;
+                out = gf::closest_point(ivec(ints), vec(floats), vec(b), ws, eps, max_iter);
+            }
+            return nb::make_tuple(out.status, out.d, out.gap, out.it, out.calls,
+                                  numpy(std::move(out.v)), numpy(std::move(out.V)),
+                                  numpy(std::move(out.lam)), numpy(std::move(out.W)));
+        },
+        "ints"_a.noconvert(), "floats"_a.noconvert(), "b"_a.noconvert(), "ws"_a, "eps"_a,
+        "max_iter"_a,
+        "GJK (section 2.2): (status, d, gap, iterations, calls, v, V, weights, witnesses).");
+
+    m.def(
+        "cone_distance",
+        [](I1 ints, F1 floats, In1 b, gf::Int ws, double eps, gf::Int max_iter) {
+            gf::ConeOut out;
+            {
+                nb::gil_scoped_release nogil;
+                out = gf::cone_distance(ivec(ints), vec(floats), vec(b), ws, eps, max_iter);
+            }
+            return nb::make_tuple(out.status, out.d, out.h, out.it, out.calls,
+                                  numpy(std::move(out.v)), numpy(std::move(out.normal)),
+                                  numpy(std::move(out.V)), numpy(std::move(out.lam)),
+                                  numpy(std::move(out.W)));
+        },
+        "ints"_a.noconvert(), "floats"_a.noconvert(), "b"_a.noconvert(), "ws"_a, "eps"_a,
+        "max_iter"_a,
+        "ZC (section 2.3): (status, d, h, iterations, calls, v, normal, V, weights, "
+        "witnesses).");
+
+    m.def(
+        "shoot",
+        [](I1 ints, F1 floats, In1 r, gf::Int ws, gf::Int method, double eps,
+           gf::Int max_iter) {
+            gf::Shot out;
+            {
+                nb::gil_scoped_release nogil;
+                out = gf::shoot(ivec(ints), vec(floats), vec(r), ws, method, eps, max_iter);
+            }
+            return shot_tuple(std::move(out));
+        },
+        "ints"_a.noconvert(), "floats"_a.noconvert(), "r"_a.noconvert(), "ws"_a, "method"_a,
+        "eps"_a, "max_iter"_a,
+        "One shot by `method`, without a start table: (status, t, t_upper, h_n, iterations, "
+        "calls, normal, V, weights, W, singular).");
+
+    m.def(
+        "shoot_packed",
+        [](I1 ints, F1 floats, In1 r, gf::Int ws, gf::Int method, double eps, gf::Int max_iter,
+           F1 packed, In1 table) {
+            nb::gil_scoped_release nogil;
+            return head_tuple(gf::shoot_packed(ivec(ints), vec(floats), vec(r), ws, method, eps,
+                                               max_iter, vec(packed), vec(table)));
+        },
+        "ints"_a.noconvert(), "floats"_a.noconvert(), "r"_a.noconvert(), "ws"_a, "method"_a,
+        "eps"_a, "max_iter"_a, "packed"_a.noconvert(), "table"_a.noconvert(),
+        "A shot's head; its arrays into `packed` (status BAD_RAY: r not finite or zero).");
+
+    m.def(
+        "shoot_and_read_forces",
+        [](In1 w_ext, gf::Int method, double eps, gf::Int max_iter, F1 packed, In1 start, I1 ints,
+           F1 floats, In1 reader) {
+            nb::gil_scoped_release nogil;
+            return head_tuple(gf::shoot_and_read_forces(vec(w_ext), method, eps, max_iter,
+                                                        vec(packed), vec(start), ivec(ints),
+                                                        vec(floats), vec(reader)));
+        },
+        "w_ext"_a.noconvert(), "method"_a, "eps"_a, "max_iter"_a, "packed"_a.noconvert(),
+        "start"_a.noconvert(), "ints"_a.noconvert(), "floats"_a.noconvert(),
+        "reader"_a.noconvert(),
+        "One min_force call: the shot at W along -w_ext and the forces read off Z_W(r).");
+
+    m.def(
+        "shoot_warm",
+        [](I1 ints, F1 floats, In1 r, gf::Int ws, double eps, gf::Int max_iter, In1 normal,
+           double spread, F1 packed, gf::Int e) {
+            nb::gil_scoped_release nogil;
+            return head_tuple(gf::shoot_warm(ivec(ints), vec(floats), vec(r), ws, eps, max_iter,
+                                             vec(normal), spread, vec(packed), e));
+        },
+        "ints"_a.noconvert(), "floats"_a.noconvert(), "r"_a.noconvert(), "ws"_a, "eps"_a,
+        "max_iter"_a, "normal"_a.noconvert(), "spread"_a, "packed"_a.noconvert(), "e"_a,
+        "ZC-IE from probes around `normal`; the shot's arrays into packed[e:].");
+
+    m.def(
+        "growth_query",
+        [](I1 ints, F1 floats, In2 R_a, In1 p_a, In2 R_b, In1 p_b, F1 packed) {
+            nb::gil_scoped_release nogil;
+            const gf::GrowthOut g = gf::growth_query(ivec(ints), vec(floats), mat(R_a),
+                                                     vec(p_a), mat(R_b), vec(p_b), vec(packed));
+            return std::make_tuple(g.code, g.verdict, g.sigma, g.lower, g.upper, g.iterations,
+                                   g.calls);
+        },
+        "ints"_a.noconvert(), "floats"_a.noconvert(), "R_a"_a.noconvert(), "p_a"_a.noconvert(),
+        "R_b"_a.noconvert(), "p_b"_a.noconvert(), "packed"_a.noconvert(),
+        "One growth-distance query (section 4.1): (code, verdict, sigma, sigma_lower, "
+        "sigma_upper, iterations, calls).");
+
+    m.def("capacity", &gf::capacity, "n"_a, "ws"_a,
+          "Entries the arrays of a shot in R^n with witnesses of ws entries take when packed.");
+    m.def("extra_size", &gf::forces::extra_size, "m"_a,
+          "Entries [sigma, forces (m, 4), wrenches (m, 6), resultant] ahead of a min_force "
+          "shot's packed arrays.");
+
+    // the codes Python shares with the core
+#define GF_EXPORT(name) m.attr(#name) = gf::name
+    GF_EXPORT(POLYTOPE); GF_EXPORT(ELLIPSOID); GF_EXPORT(BOX); GF_EXPORT(TRUNCATED_CONE);
+    GF_EXPORT(CONE_CAP); GF_EXPORT(HULL); GF_EXPORT(SUM); GF_EXPORT(AFFINE); GF_EXPORT(EMBED);
+    GF_EXPORT(ORIGIN_EMBED); GF_EXPORT(GENERAL); GF_EXPORT(ELLIPSOID_HULL); GF_EXPORT(POSED_SUM);
+    GF_EXPORT(CONVERGED); GF_EXPORT(INSIDE); GF_EXPORT(STALLED); GF_EXPORT(MAX_ITER);
+    GF_EXPORT(HIT); GF_EXPORT(MISS); GF_EXPORT(LIMIT);
+    GF_EXPORT(GJK_BASED); GF_EXPORT(IE); GF_EXPORT(ZC_BASED); GF_EXPORT(BI_GJK);
+    GF_EXPORT(ZC_IE); GF_EXPORT(ZC_IE_NEWTON); GF_EXPORT(HEAD);
+    GF_EXPORT(BAD_RAY); GF_EXPORT(BAD_WRENCH); GF_EXPORT(ZERO_WRENCH);
+#undef GF_EXPORT
+    // the growth-distance query's codes and layout, the force reader's and the warm start's
+    nb::module_ growth = m.def_submodule("growth", "The growth-distance query's codes and layout.");
+    nb::module_ forces = m.def_submodule("forces", "The force reader's layout.");
+    nb::module_ warm = m.def_submodule("warm", "The warm start's probe rounds.");
+#define GF_EXPORT_FROM(space, name) space.attr(#name) = gf::space::name
+    GF_EXPORT_FROM(forces, READER_HEAD);
+    GF_EXPORT_FROM(warm, WIDENINGS);
+    GF_EXPORT_FROM(growth, OK); GF_EXPORT_FROM(growth, BAD_POSE_A);
+    GF_EXPORT_FROM(growth, BAD_POSE_B); GF_EXPORT_FROM(growth, COINCIDENT);
+    GF_EXPORT_FROM(growth, SEPARATED); GF_EXPORT_FROM(growth, TOUCHING);
+    GF_EXPORT_FROM(growth, PENETRATING); GF_EXPORT_FROM(growth, NOT_CERTIFIED);
+    GF_EXPORT_FROM(growth, POSES); GF_EXPORT_FROM(growth, FRAME);
+    GF_EXPORT_FROM(growth, MA); GF_EXPORT_FROM(growth, MB); GF_EXPORT_FROM(growth, WS);
+    GF_EXPORT_FROM(growth, METHOD); GF_EXPORT_FROM(growth, MAX_ITER);
+    GF_EXPORT_FROM(growth, WARM_START); GF_EXPORT_FROM(growth, EPS);
+    GF_EXPORT_FROM(growth, TOUCHING_TOL); GF_EXPORT_FROM(growth, WARM);
+    GF_EXPORT_FROM(growth, SPREAD); GF_EXPORT_FROM(growth, NORMAL); GF_EXPORT_FROM(growth, TAIL);
+    GF_EXPORT_FROM(growth, WARM_SPREAD); GF_EXPORT_FROM(growth, COLD_SPREAD);
+#undef GF_EXPORT_FROM
+
+    bind_testing(m);
+    bind_timing(m);
+}

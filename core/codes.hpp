@@ -1,0 +1,63 @@
+// Codes shared across the compiled core and with Python (the bindings export every one of them,
+// so that Python reads the same values: graspforce._core.<NAME>).
+#pragma once
+
+#include "arrays.hpp"
+
+namespace gf {
+
+// support programs (kernel.hpp): node kinds
+constexpr Int POLYTOPE = 0;        // params: m, n, vertices (m*n)            witness: [active, vertex index]
+constexpr Int ELLIPSOID = 1;       // params: n, k, center (n), shape (n*k)   witness: [active, x (k)]
+constexpr Int BOX = 2;             // params: n, half extents (n)             witness: [active, corner (n)]
+constexpr Int TRUNCATED_CONE = 3;  // params: bottom radius, top radius, height  witness: [active, point (3)]
+constexpr Int CONE_CAP = 4;        // params: n, mu                           witness: [active, g (n)]
+constexpr Int HULL = 10;
+constexpr Int SUM = 11;
+constexpr Int AFFINE = 12;         // params: m, n, M (m*n), t (m)
+constexpr Int EMBED = 13;          // params: m, n, span, t (m): x -> (0, x) + t
+constexpr Int ORIGIN_EMBED = 14;   // params as EMBED: the embedding of CH({0} U child)
+// plans (the last entry of a program's ints)
+constexpr Int GENERAL = 0;
+constexpr Int ELLIPSOID_HULL = 1;
+constexpr Int POSED_SUM = 2;
+
+// the offsets in `ints` of a program's blocks, for a program of nn nodes
+struct Blocks {
+    Int KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE, CHILDREN;
+};
+inline Blocks blocks(Int nn) {
+    return {1, 1 + nn, 1 + 2 * nn, 1 + 3 * nn, 1 + 4 * nn, 1 + 5 * nn, 1 + 6 * nn, 1 + 7 * nn,
+            1 + 8 * nn, 1 + 9 * nn, 1 + 10 * nn};
+}
+
+// GJK and ZC (distance.hpp)
+constexpr Int CONVERGED = 0;   // GJK: h_A(n) - n^T v within tolerance; ZC: h_{A - shift}(n) within it
+constexpr Int INSIDE = 1;      // the target is in CH(V) (GJK) or in CO(V - shift) (ZC)
+constexpr Int STALLED = 2;     // the new support point brought no decrease: exact to rounding
+constexpr Int MAX_ITER = 3;
+
+// ray shots: statuses
+constexpr Int HIT = 0;
+constexpr Int MISS = 1;
+constexpr Int LIMIT = 2;
+constexpr Int FACET = 3;       // internal: ZC-based iterations reached a facet the ray crosses
+
+// zc_from's modes
+constexpr Int ZC_ONLY = 0;
+constexpr Int WITH_IE = 1;
+constexpr Int UNTIL_FACET = 2;
+constexpr Int WITH_NEWTON = 3;
+
+// methods
+constexpr Int GJK_BASED = 0;
+constexpr Int IE = 1;
+constexpr Int ZC_BASED = 2;
+constexpr Int BI_GJK = 3;
+constexpr Int ZC_IE = 4;
+constexpr Int ZC_IE_NEWTON = 5;
+
+// a packed shot's head: (status, t, t_upper, h_n, iterations, support_calls, singular_steps, k)
+constexpr Int HEAD = 8;
+
+}  // namespace gf

@@ -1,0 +1,92 @@
+#pragma once
+
+#include "api.hpp"
+
+// One entry point for every ray-shooting procedure: the method code picks GJK-based, IE,
+// ZC-based, Bi-GJK, ZC-IE or ZC-IE with the Newton finish; where a shot stalls or stops above eps
+// it is finished by another (IE steps from its facet, or GJK-based), so that "hit" always means
+// certified to eps.
+
+namespace gf::dispatch_detail {
+
+// The finish's result, with the counts of both shots and the hand-over as a singular step.
+inline Shot handed_over(const Shot& out, Shot fin) {
+    fin.iters = out.iters + fin.iters;
+    fin.calls = out.calls + fin.calls;
+    fin.singular = out.singular + fin.singular + 1;
+    return fin;
+}
+
+// GJK-based, Bi-GJK or ZC-based, finished by IE steps where they stall or stop above eps.
+inline Shot distance_based(IVec ints, Vec floats, Vec r, Int ws, Int method, double eps,
+                           Int max_iter) {
+    Shot out;
+    if (method == GJK_BASED)
+        out = gjk_based(ints, floats, r, ws, eps, max_iter);
+    else if (method == BI_GJK)
+        out = bi_gjk(ints, floats, r, ws, eps, max_iter);
+    else
+        out = zc_family(ints, floats, r, ws, eps, max_iter, ZC_ONLY);
+    // a LIMIT short of max_iter is a stall (zc_from): handed over like an uncertified hit
+    const bool stalled = out.status == LIMIT && out.iters < max_iter;
+    if (!stalled && (out.status != HIT || out.t_up - out.t <= eps * out.t)) return out;
+    // GJK's simplex and ZC's cone from b_k lose rank near the boundary (relative singular values
+    // ~1e-13) and can stall above eps, seen on a third of the ingot grasp's rays at eps = 1e-9.
+    // IE's facets are solved from the origin and stay well-conditioned: finish with IE steps,
+    // from the final facet when there is one (ZC-based on the ingot: mean support calls
+    // 116 -> 102), else, or if that fails too, from scratch. The hand-over counts as a
+    // singular step.
+    const Int n = r.n;
+    if (out.k() == n) {
+        // zc_from writes into n + 2 rows: the record's facet in arrays of that size
+        Array Pz(n + 2, n), Wz(n + 2, ws), lz(n + 2);
+        Mat P = Pz.mat(), W = Wz.mat(), V = out.V.mat(), Wo = out.W.mat();
+        for (Int j = 0; j < n; ++j) {
+            for (Int i = 0; i < n; ++i) P(j, i) = V(j, i);
+            for (Int i = 0; i < ws; ++i) W(j, i) = Wo(j, i);
+            lz.data[j] = out.lam.data[j];
+        }
+        Shot fin = zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, out.t, P, W, lz.vec(), n,
+                           0, 0, Mat{}, Mat{});
+        if (fin.status == HIT && fin.t_up - fin.t <= eps * fin.t)
+            return handed_over(out, std::move(fin));
+    }
+    return handed_over(out, ie(ints, floats, r, ws, eps, max_iter));
+}
+
+}  // namespace gf::dispatch_detail
+
+namespace gf {
+
+// Dispatch on the method code.
+Shot shoot(IVec ints, Vec floats, Vec r, Int ws, Int method, double eps, Int max_iter) {
+    Shot out;
+    if (method == IE)
+        out = ie(ints, floats, r, ws, eps, max_iter);
+    else if (method == ZC_IE)
+        out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE);
+    else if (method == ZC_IE_NEWTON)
+        out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_NEWTON);
+    else
+        out = dispatch_detail::distance_based(ints, floats, r, ws, method, eps, max_iter);
+    // GJK-based's own stalls are its finish's (ZC's): walking the ray again would repeat them
+    if (method == GJK_BASED) return out;
+    return unstall(ints, floats, r, ws, eps, max_iter, std::move(out));
+}
+
+// `out`, or where it is a stall (a LIMIT short of max_iter: zc_from), GJK-based's answer when
+// that one is certified. ZC's cone from b_k loses rank where the ray runs along a flat or thin
+// part of A (W_Linf's lift for a doubled point contact and a wrench 1e-9 inside its friction
+// cone, a 3-D set in R^7; two point contacts at a corner of W): ZC-based steps then stall with
+// the bracket open, and IE and ZC-IE, which hand over to them, with them. GJK's simplex, walking
+// down the ray from outside, does not lose rank there (and where GJK-based stops short, IE steps
+// from its facet may not: distance_based).
+Shot unstall(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Shot out) {
+    if (!(out.status == LIMIT && out.iters < max_iter)) return out;
+    Shot fin = dispatch_detail::distance_based(ints, floats, r, ws, GJK_BASED, eps,
+                                               max_iter - out.iters);
+    if (fin.status != LIMIT) return dispatch_detail::handed_over(out, std::move(fin));
+    return dispatch_detail::handed_over(fin, std::move(out));
+}
+
+}  // namespace gf

@@ -1,0 +1,143 @@
+#pragma once
+
+#include "api.hpp"
+
+// Contact forces read off the final simplex Z_W(r): one compiled call per min_force shoots
+// z = t r on the wrench set W (r = -w_ext) and reads the contacts' forces off the witnesses of
+// Z_W(r)'s vertices.
+
+namespace gf {
+
+namespace forces {
+
+// A Target's force reader (graspforce.wrench_space): how forces are read off witnesses, as one
+// float array read by offsets. Layout: [witness size, linf, full, m, leaves L, table (4, L) by
+// rows CONTACT, SLOT, SIZE, MAP, G (m, 6, 4), spin_weight (m,), maps].
+constexpr Int READER_HEAD = 5;
+
+// Entries [sigma, forces (m, 4), wrenches (m, 6), resultant (6,)] ahead of the ray-shooting
+// arrays in the packed result of `shoot_and_read_forces`.
+inline Int extra_size(Int m) { return 7 + 10 * m; }
+
+}  // namespace forces
+
+namespace forces_detail {
+
+// rows of a wrench space's leaf table (graspforce.wrench_space.Target._table)
+constexpr Int CONTACT = 0;
+constexpr Int SLOT = 1;
+constexpr Int SIZE = 2;
+constexpr Int MAP = 3;
+constexpr double ORIGIN_FLOOR = 1e-12;   // |z| <= this times W's size: z is the origin to rounding
+
+// sigma, with forces (m, 4), wrenches (m, 6) and resultant (6,) written to their entries of
+// `packed` (zeroed by the caller), for z = sum_k weights_k v_k = t r, scale = 1/t, and the force
+// reader of the shot set (G_i of eq. (11) among its parts).
+//
+// Every vertex v_k of Z_W(r) holds one wrench G_i u_ki (W_L1, or the lift of W_Linf, whose
+// vertices' weights sum to 1/m per contact) or a sum of them (W_Linf itself), u_ki a unit contact
+// force recovered from the vertex's witness row as base + map @ local (the reader's table: per
+// leaf its contact, witness slot, local size and offset in maps). Then r = sum_i G_i f_i with
+// f_i = sum_k (weights_k / t) u_ki: the forces resist w_ext = -r exactly, up to the rounding of
+// the simplex. sigma is their objective (eq. 13 or 15), <= 1/t (1/(m t) on the lift) by the
+// triangle inequality (equal when each contact appears in one vertex). For the full magnitude
+// the reader's spin weights hold (mu_i / mu_si)^2 per contact (0 for point contacts), the weight
+// of f_4^2 in ||f_i||.
+inline double contact_forces(Mat W, Vec weights, double scale, Vec reader, Vec packed) {
+    using forces::READER_HEAD;
+    const bool linf = reader[1] != 0.0;
+    const bool full = reader[2] != 0.0;
+    const Int m = static_cast<Int>(reader[3]);
+    const Int leaves = static_cast<Int>(reader[4]);
+    const Int g0 = READER_HEAD + 4 * leaves;   // G_i
+    const Int s0 = g0 + 24 * m;                // spin weights
+    const Int m0 = s0 + m;                     // maps
+    const Int f0 = 1;                          // forces, wrenches, resultant in packed
+    const Int w0 = f0 + 4 * m;
+    const Int r0 = w0 + 6 * m;
+    for (Int k = 0; k < W.rows; ++k) {
+        const double c = weights[k] * scale;
+        for (Int j = 0; j < leaves; ++j) {
+            const Int i = static_cast<Int>(reader[READER_HEAD + CONTACT * leaves + j]);
+            const Int s = static_cast<Int>(reader[READER_HEAD + SLOT * leaves + j]);
+            if (i < 0 || W(k, s) < 0.5) continue;
+            const Int p = m0 + static_cast<Int>(reader[READER_HEAD + MAP * leaves + j]);
+            const Int L = static_cast<Int>(reader[READER_HEAD + SIZE * leaves + j]);
+            for (Int a = 0; a < 4; ++a) {
+                double f = reader[p + a];
+                for (Int b = 0; b < L; ++b) f += reader[p + 4 + a * L + b] * W(k, s + 1 + b);
+                packed[f0 + 4 * i + a] += c * f;
+            }
+        }
+    }
+    double sigma = 0.0;
+    for (Int i = 0; i < m; ++i) {
+        const Int f = f0 + 4 * i;
+        double value;
+        if (full) {
+            value = std::sqrt(packed[f] * packed[f] + packed[f + 1] * packed[f + 1] +
+                              packed[f + 2] * packed[f + 2] +
+                              reader[s0 + i] * (packed[f + 3] * packed[f + 3]));
+        } else {
+            value = packed[f];
+        }
+        if (linf)
+            sigma = std::max(sigma, value);
+        else
+            sigma += value;
+    }
+    for (Int i = 0; i < m; ++i) {
+        for (Int a = 0; a < 6; ++a) {
+            double s = 0.0;
+            for (Int b = 0; b < 4; ++b)
+                s += reader[g0 + 24 * i + 4 * a + b] * packed[f0 + 4 * i + b];
+            packed[w0 + 6 * i + a] = s;
+            packed[r0 + a] += s;
+        }
+    }
+    return sigma;
+}
+
+}  // namespace forces_detail
+
+// One compiled call per min_force: z = t r on W by `method` (r = -w_ext), then the forces read
+// off Z_W(r). start: the wrench set's start table or an empty array; then a wrench space's
+// constant arguments: the shot set's program and its force reader.
+//
+// Returns the head of the shot, whose arrays go to `packed` (extra_size(m) + capacity(6, ws)
+// entries) after the extra entries [sigma, forces (m, 4), wrenches (m, 6), resultant (6,)];
+// zero forces and sigma = inf when the ray misses W or leaves it at the origin (to rounding).
+// Or, with no shot, a head whose status is ZERO_WRENCH or BAD_WRENCH.
+Head shoot_and_read_forces(Vec w_ext, Int method, double eps, Int max_iter, Vec packed,
+                           Vec start, IVec ints, Vec floats, Vec reader) {
+    using namespace forces_detail;
+    const double ww = dot(w_ext, w_ext);
+    // x.x is NaN or inf iff an entry is (or the squares overflow)
+    if (w_ext.n != 6 || !std::isfinite(ww)) return {BAD_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0};
+    if (ww == 0.0) return {ZERO_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0};
+    // r = -w_ext, after the lift's m - 1 zeros for Linf (graspforce.wrench_space)
+    const Int n = ints[blocks(ints[0]).DIM];   // the set's dimension: its root node's
+    Array r_(n);
+    const Vec r = r_.vec();
+    for (Int a = 0; a < 6; ++a) r[n - 6 + a] = -w_ext[a];
+    Shot out = shoot_with_table(ints, floats, r, static_cast<Int>(reader[0]), method, eps,
+                                max_iter, start);
+    const double t = out.t;
+    const Int m = static_cast<Int>(reader[3]);
+    const Mat V = out.V.mat();
+    double size = 0.0;
+    for (Int k = 0; k < V.rows; ++k)
+        for (Int a = 0; a < V.cols; ++a) size = std::max(size, std::abs(V(k, a)));
+    const Int e = forces::extra_size(m);
+    for (Int a = 0; a < e; ++a) packed[a] = 0.0;
+    // a point of W at t r with |t r| at the rounding of W's size is the origin: an Linf set
+    // contains 0, and a ray that leaves W there has no finite forces (the witnesses' forces,
+    // scaled by 1/t, would be rounding blown up)
+    if (out.status == MISS || !(t * std::sqrt(ww) > ORIGIN_FLOOR * size))
+        packed[0] = INF;
+    else
+        packed[0] = contact_forces(out.W.mat(), out.lam.vec(), 1.0 / t, reader, packed);
+    return pack(out, packed, e);
+}
+
+}  // namespace gf
