@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -64,25 +66,59 @@ inline Mat mat_view(Vec buf, Int start, Int rows, Int cols) {
     return {buf.d + start, rows, cols, cols};
 }
 
-// an owning float64 array of one or two dimensions (entries zero-initialized)
+// std::allocator, but a vector of n entries is left uninitialized unless a value is given: the
+// large work arrays (IE's pool of support points, max_iter + n + 1 rows) are written before they
+// are read, and zeroing them cost more than the shot
+template <class T>
+struct DefaultInit : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = DefaultInit<U>;
+    };
+    using std::allocator<T>::allocator;
+    template <class U>
+    void construct(U* p) noexcept(std::is_nothrow_default_constructible<U>::value) {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... A>
+    void construct(U* p, A&&... a) {
+        ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
+    }
+};
+
+// an owning float64 array of one or two dimensions, zero-initialized (`uninitialized` leaves
+// its entries for the caller to write before reading)
 struct Array {
-    std::vector<double> data;
+    std::vector<double, DefaultInit<double>> data;
     Int rows = 0;   // a vector's length, or a matrix's rows
     Int cols = 0;   // a matrix's columns (0 for a vector)
     int ndim = 1;
     Array() = default;
-    explicit Array(Int n) : data(static_cast<size_t>(n)), rows(n), cols(0), ndim(1) {}
-    Array(Int r, Int c) : data(static_cast<size_t>(r * c)), rows(r), cols(c), ndim(2) {}
+    explicit Array(Int n) : data(static_cast<size_t>(n), 0.0), rows(n), cols(0), ndim(1) {}
+    Array(Int r, Int c) : data(static_cast<size_t>(r * c), 0.0), rows(r), cols(c), ndim(2) {}
+    static Array uninitialized(Int r, Int c) {
+        Array a;
+        a.data = std::vector<double, DefaultInit<double>>(static_cast<size_t>(r * c));
+        a.rows = r;
+        a.cols = c;
+        a.ndim = 2;
+        return a;
+    }
     Vec vec() { return {data.data(), static_cast<Int>(data.size())}; }
     Mat mat() { return {data.data(), rows, cols, cols}; }
     Int size() const { return static_cast<Int>(data.size()); }
 };
 
-// an owning int64 array
+// an owning int64 array, zero-initialized (`uninitialized`: as Array's)
 struct IArray {
-    std::vector<Int> data;
+    std::vector<Int, DefaultInit<Int>> data;
     IArray() = default;
-    explicit IArray(Int n) : data(static_cast<size_t>(n)) {}
+    explicit IArray(Int n) : data(static_cast<size_t>(n), 0) {}
+    static IArray uninitialized(Int n) {
+        IArray a;
+        a.data = std::vector<Int, DefaultInit<Int>>(static_cast<size_t>(n));
+        return a;
+    }
     IVec vec() { return {data.data(), static_cast<Int>(data.size())}; }
 };
 

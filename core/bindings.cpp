@@ -5,8 +5,10 @@
 // them write into their arguments (the packed result, the program's scratch), which a converted
 // copy would lose. The computation runs with the GIL released.
 #include <nanobind/nanobind.h>
-#include <nanobind/ndarray.h>
 #include <nanobind/stl/tuple.h>
+
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#include <numpy/arrayobject.h>
 
 #include <cstring>
 #include <tuple>
@@ -19,34 +21,63 @@
 namespace nb = nanobind;
 using namespace nb::literals;
 
+// A NumPy array argument, read straight off the array object: dtype, rank, C order and (for the
+// arrays the core writes to) writability are checked, nothing is converted. nanobind's generic
+// ndarray caster costs ~150 ns an argument, several times a support call; this one costs a few.
+template <class T, int TYPENUM, int NDIM, bool WRITES>
+struct NumpyArg {
+    T* data = nullptr;
+    gf::Int rows = 0;
+    gf::Int cols = 0;
+};
+using F1 = NumpyArg<double, NPY_FLOAT64, 1, true>;         // the core writes to it
+using I1 = NumpyArg<std::int64_t, NPY_INT64, 1, true>;     // a program's ints (scratch blocks)
+using In1 = NumpyArg<double, NPY_FLOAT64, 1, false>;       // read only
+using In2 = NumpyArg<double, NPY_FLOAT64, 2, false>;
+
+namespace nanobind::detail {
+template <class T, int TYPENUM, int NDIM, bool WRITES>
+struct type_caster<NumpyArg<T, TYPENUM, NDIM, WRITES>> {
+    using Arg = NumpyArg<T, TYPENUM, NDIM, WRITES>;
+    NB_TYPE_CASTER(Arg, const_name("numpy.ndarray"))
+
+    bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
+        PyObject* o = src.ptr();
+        if (!PyArray_Check(o)) return false;
+        auto* a = reinterpret_cast<PyArrayObject*>(o);
+        if (PyArray_TYPE(a) != TYPENUM || PyArray_NDIM(a) != NDIM ||
+            !PyArray_IS_C_CONTIGUOUS(a) || !PyArray_ISALIGNED(a) || !PyArray_ISNOTSWAPPED(a))
+            return false;
+        if (WRITES && !PyArray_ISWRITEABLE(a)) return false;
+        value.data = static_cast<T*>(PyArray_DATA(a));
+        value.rows = static_cast<gf::Int>(PyArray_DIM(a, 0));
+        value.cols = NDIM == 2 ? static_cast<gf::Int>(PyArray_DIM(a, 1)) : 0;
+        return true;
+    }
+
+    static handle from_cpp(const Arg&, rv_policy, cleanup_list*) noexcept {
+        return none().release();
+    }
+};
+}  // namespace nanobind::detail
+
 namespace {
 
-// arrays the core writes to (a program's scratch, a packed result), and arrays it only reads,
-// which may be read-only
-using F1 = nb::ndarray<double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using I1 = nb::ndarray<std::int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using In1 = nb::ndarray<const double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using In2 = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
-
-gf::Vec vec(F1& a) { return {a.data(), static_cast<gf::Int>(a.shape(0))}; }
-gf::IVec ivec(I1& a) { return {a.data(), static_cast<gf::Int>(a.shape(0))}; }
+gf::Vec vec(const F1& a) { return {a.data, a.rows}; }
+gf::IVec ivec(const I1& a) { return {a.data, a.rows}; }
 // the core takes views of mutable doubles; it does not write to the arrays passed as In1, In2
-gf::Vec vec(In1& a) {
-    return {const_cast<double*>(a.data()), static_cast<gf::Int>(a.shape(0))};
-}
-gf::Mat mat(In2& a) {
-    const auto cols = static_cast<gf::Int>(a.shape(1));
-    return {const_cast<double*>(a.data()), static_cast<gf::Int>(a.shape(0)), cols, cols};
-}
+gf::Vec vec(const In1& a) { return {a.data, a.rows}; }
+gf::Mat mat(const In2& a) { return {a.data, a.rows, a.cols, a.cols}; }
 
-// a NumPy array that takes over an Array's entries
-nb::object numpy(gf::Array&& a) {
-    auto* owned = new gf::Array(std::move(a));
-    nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<gf::Array*>(p); });
-    size_t shape[2] = {static_cast<size_t>(owned->rows), static_cast<size_t>(owned->cols)};
-    return nb::cast(nb::ndarray<nb::numpy, double>(owned->data.data(),
-                                                    static_cast<size_t>(owned->ndim), shape,
-                                                    owner));
+// a new NumPy array holding an Array's entries
+nb::object numpy(const gf::Array& a) {
+    npy_intp dims[2] = {static_cast<npy_intp>(a.rows), static_cast<npy_intp>(a.cols)};
+    PyObject* o = PyArray_SimpleNew(a.ndim, dims, NPY_FLOAT64);
+    if (o == nullptr) throw nb::python_error();
+    if (!a.data.empty())
+        std::memcpy(PyArray_DATA(reinterpret_cast<PyArrayObject*>(o)), a.data.data(),
+                    a.data.size() * sizeof(double));
+    return nb::steal(o);
 }
 
 using HeadTuple = std::tuple<gf::Int, double, double, double, gf::Int, gf::Int, gf::Int, gf::Int>;
@@ -57,13 +88,14 @@ HeadTuple head_tuple(const gf::Head& h) {
 
 nb::tuple shot_tuple(gf::Shot&& s) {
     return nb::make_tuple(s.status, s.t, s.t_up, s.h_n, s.iters, s.calls,
-                          numpy(std::move(s.normal)), numpy(std::move(s.V)),
-                          numpy(std::move(s.lam)), numpy(std::move(s.W)), s.singular);
+                          numpy(s.normal), numpy(s.V),
+                          numpy(s.lam), numpy(s.W), s.singular);
 }
 
 }  // namespace
 
 NB_MODULE(_core, m) {
+    if (_import_array() < 0) throw nb::python_error();
     m.doc() = "The compiled core of graspforce: support programs, GJK, ZC and the ray shooters.";
 
     m.def(
@@ -85,8 +117,8 @@ NB_MODULE(_core, m) {
                 out = gf::closest_point(ivec(ints), vec(floats), vec(b), ws, eps, max_iter);
             }
             return nb::make_tuple(out.status, out.d, out.gap, out.it, out.calls,
-                                  numpy(std::move(out.v)), numpy(std::move(out.V)),
-                                  numpy(std::move(out.lam)), numpy(std::move(out.W)));
+                                  numpy(out.v), numpy(out.V),
+                                  numpy(out.lam), numpy(out.W));
         },
         "ints"_a.noconvert(), "floats"_a.noconvert(), "b"_a.noconvert(), "ws"_a, "eps"_a,
         "max_iter"_a,
@@ -101,9 +133,9 @@ NB_MODULE(_core, m) {
                 out = gf::cone_distance(ivec(ints), vec(floats), vec(b), ws, eps, max_iter);
             }
             return nb::make_tuple(out.status, out.d, out.h, out.it, out.calls,
-                                  numpy(std::move(out.v)), numpy(std::move(out.normal)),
-                                  numpy(std::move(out.V)), numpy(std::move(out.lam)),
-                                  numpy(std::move(out.W)));
+                                  numpy(out.v), numpy(out.normal),
+                                  numpy(out.V), numpy(out.lam),
+                                  numpy(out.W));
         },
         "ints"_a.noconvert(), "floats"_a.noconvert(), "b"_a.noconvert(), "ws"_a, "eps"_a,
         "max_iter"_a,

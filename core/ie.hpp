@@ -98,7 +98,10 @@ struct Facets {
     Int cap, n;
     IArray F;
     Array Y, GAM;
-    Facets(Int cap_, Int n_) : cap(cap_), n(n_), F(cap_ * n_), Y(cap_, n_), GAM(cap_, n_) {}
+    // rows past the count are never read: left uninitialized
+    Facets(Int cap_, Int n_)
+        : cap(cap_), n(n_), F(IArray::uninitialized(cap_ * n_)),
+          Y(Array::uninitialized(cap_, n_)), GAM(Array::uninitialized(cap_, n_)) {}
     IVec f(Int g) { return irow(F, g, n); }
     Vec y(Int g) { return Y.mat().row(g); }
     Vec gam(Int g) { return GAM.mat().row(g); }
@@ -209,7 +212,8 @@ Shot ie_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Mat
     using namespace ie_detail;
     const Int n = r.n;
     const Int cap_pts = n + 1 + max_iter;
-    Array pool_a(cap_pts, n), pwit_a(cap_pts, ws);
+    // rows past npts are never read: left uninitialized (max_iter + n + 1 rows)
+    Array pool_a = Array::uninitialized(cap_pts, n), pwit_a = Array::uninitialized(cap_pts, ws);
     Mat pool = pool_a.mat(), pwit = pwit_a.mat();
     for (Int j = 0; j < n; ++j) {
         for (Int i = 0; i < n; ++i) pool(j, i) = V(j, i);
