@@ -1,5 +1,5 @@
 // The functions one part of the core calls in another, declared once. Each is defined in the
-// header named beside it; core.cpp includes them all, in the order of the layers.
+// header named beside it; all.hpp includes them all, in the order of the layers.
 #pragma once
 
 #include <utility>

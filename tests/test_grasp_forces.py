@@ -435,8 +435,9 @@ def test_min_force_bad_input_names_the_field(kwargs, field):
 
 
 def test_wrenches_of_any_type_and_layout_agree():
-    # the compiled call takes a C-contiguous float64 (6,) array; every other wrench is converted
-    # on the way, never a new compilation and never a different answer
+    # the compiled call takes a C-contiguous float64 (6,) array
+    # (graspforce._core.shoot_and_read_forces, which refuses anything else); every other wrench
+    # is converted on the way, never a different answer
     grasp = asymmetric_grasp()
     w = np.array([0.3, -1.0, 2.0, 0.05, -0.1, 0.02])
     ref = grasp.min_force(w)
@@ -447,8 +448,24 @@ def test_wrenches_of_any_type_and_layout_agree():
         assert res.sigma == ref.sigma and np.array_equal(res.forces, ref.forces)
     assert grasp.min_force(np.array([0, 0, 1, 0, 0, 0])).sigma == \
         grasp.min_force(np.array([0.0, 0, 1, 0, 0, 0])).sigma
-    from graspforce._forces import shoot_and_read_forces
-    assert len(shoot_and_read_forces.signatures) == 1
+    # the compiled call itself takes exactly that kind of array (read-only too: it does not
+    # write to the wrench) and gives min_force's sigma; any other wrench raises TypeError,
+    # unconverted
+    from graspforce._core import HIT, shoot_and_read_forces
+    from graspforce._start_table import start_table
+    _, code, shoot, args, A, size, _, _ = grasp._call("L1", "normal", "zc-ie")
+    assert shoot is shoot_and_read_forces
+    packed = np.empty(size)
+
+    def compiled(w_ext):
+        return shoot(w_ext, code, 1e-9, 10000, packed, start_table(A, 6), *args)
+
+    for exact in (w, frozen, w.reshape(1, 6)[0]):
+        assert compiled(exact)[0] == HIT and packed.item(0) == ref.sigma
+    for other in (w.tolist(), tuple(w), w.astype(np.float32), np.array([0, 0, 1, 0, 0, 0]),
+                  np.repeat(w, 2)[::2], w.reshape(1, 6), w.reshape(6, 1)):
+        with pytest.raises(TypeError):
+            compiled(other)
     with pytest.raises(ValueError, match="w_ext"), np.errstate(over="ignore"):
         grasp.min_force(np.full(6, 1e200))                  # x.x overflows
 

@@ -282,8 +282,9 @@ def test_pose_formats_agree():
 
 
 def test_pose_arrays_of_any_type_and_layout_agree():
-    # the compiled query takes C-contiguous writable float64 arrays; every other array is
-    # converted on the way, never a new compilation and never a different answer
+    # the compiled query takes C-contiguous float64 arrays (graspforce._core.growth_query, which
+    # refuses anything else); every other array is converted on the way, never a different answer
+    from graspforce.growth import query
     rng = np.random.default_rng(15)
     A, B = gf.Capsule(0.2, 0.5), gf.Box([0.3, 0.1, 0.2])
     RA, RB = random_rotation(rng), random_rotation(rng)
@@ -299,16 +300,21 @@ def test_pose_arrays_of_any_type_and_layout_agree():
         assert solver((RA, pA), pose_b).sigma == ref
     assert solver((RA, pA), (np.eye(3, dtype=np.int64), pB)).sigma == \
         solver((RA, pA), (np.eye(3), pB)).sigma
-    assert len(query_signatures()) == 1
+    # the compiled query itself takes exactly such arrays (read-only too: it does not write to
+    # the poses) and gives the solver's answer; any other pose array raises TypeError,
+    # unconverted
+    packed = np.empty(solver._size)
+    for R in (RB, frozen):
+        assert query(solver._ints, solver._floats, RA, pA, R, pB, packed)[2] == ref
+    for R, p in ((np.asfortranarray(RB), pB), (wide[:, ::2], pB), (RB.tolist(), pB),
+                 (np.eye(3, dtype=np.int64), pB), (RB.astype(np.float32), pB),
+                 (RB, np.repeat(pB, 2)[::2]), (RB, pB.tolist()), (RB, pB.reshape(1, 3))):
+        with pytest.raises(TypeError):
+            query(solver._ints, solver._floats, RA, pA, R, p, packed)
     with pytest.raises(ValueError, match="pose_b rotation: expected shape"):
         solver((RA, pA), (np.eye(4), pB))
     with pytest.raises(ValueError, match="pose_a translation: expected shape"):
         solver((RA, np.zeros(4)), (RB, pB))
-
-
-def query_signatures():
-    from graspforce._growth import query
-    return query.signatures
 
 
 def test_reused_solver_matches_one_shot_calls():
@@ -341,13 +347,11 @@ def test_warm_start_on_a_moving_pair():
 
 def test_probes_whose_facet_misses_the_ray_fall_back_to_zc_from_the_origin():
     # "zc-ie" queries, warm and cold, start IE on the facet of support points spread around a
-    # guessed normal (graspforce._warm). Around -r the ray never crosses that facet (every
+    # guessed normal (core/warm.hpp). Around -r the ray never crosses that facet (every
     # probe point is behind the origin), so the spread is widened WIDENINGS times and ZC-IE
     # starts from the origin: a plain ZC-IE shot's answer, for the probes' support calls more.
-    from graspforce._dispatch import shoot
-    from graspforce._shooters import HIT, ZC_IE
-    from graspforce._packed import capacity
-    from graspforce._warm import WIDENINGS, shoot_warm
+    from graspforce._core import HIT, ZC_IE, capacity, shoot, shoot_warm
+    from graspforce._core.warm import WIDENINGS
     pair = PAIRS[0]
     solver = gf.GrowthDistance(*shapes(pair, 1.0), warm_start=False)
     solver((pair["R_e"], pair["p_e"]), (pair["R_c"], pair["p_c"]))  # Delta at these poses

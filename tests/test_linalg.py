@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from graspforce._linalg import lstsq_append
+from graspforce._core.testing import lstsq_append
 
 
 def work_arrays(n):

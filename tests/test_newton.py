@@ -1,4 +1,4 @@
-"""The second-order finish of ZC-IE (graspforce._piece, graspforce._newton): the pieces' supports
+"""The second-order finish of ZC-IE (core/piece.hpp, core/newton.hpp): the pieces' supports
 and curvature against finite differences, the rank-revealing KKT solve against numpy, and the
 finish itself against closed forms and SOCPs on the cases it was built for: smooth exits (a
 growth rim contact), flat pieces (soft fingers whose friction is not saturated, an ellipsoid on a
@@ -7,10 +7,9 @@ import numpy as np
 import pytest
 
 import graspforce as gf
-from graspforce._kernel import support
-from graspforce._linalg import basic_null_space, solve_basic
-from graspforce._newton import newton_finish
-from graspforce._piece import (FLAT, flat_columns, jacobian_size, piece_support, same_piece)
+from graspforce._core import support
+from graspforce._core.testing import (FLAT, basic_null_space, flat_columns, jacobian_size,
+                                      newton_finish, piece_support, same_piece, solve_basic)
 
 import truth as T
 from conftest import random_rotation
@@ -138,7 +137,7 @@ def test_solve_basic_solves_consistent_rank_deficient_systems(deficient):
 
 @pytest.mark.parametrize("deficient", [1, 3])
 def test_basic_null_space_spans_the_null_space(deficient):
-    # the corner finish moves solve_basic's answer along these columns (graspforce._newton)
+    # the corner finish moves solve_basic's answer along these columns (core/newton.hpp)
     rng = np.random.default_rng(10 + deficient)
     n = 9
     M = rng.normal(size=(n, n))

@@ -439,7 +439,7 @@ def test_default_method_and_counters(method):
 def test_record_matches_the_compiled_result(method):
     """RayShot's fields are exactly the shooter's own result tuple, read through the packed array
     (graspforce._packed) that crosses to Python; the views are consistent with each other."""
-    from graspforce._dispatch import shoot
+    from graspforce._core import shoot
     from graspforce.ray_shoot import METHODS as CODES
     rng = np.random.default_rng(5)
     A = gf.hull(gf.Ellipsoid(*random_ellipsoid(rng, 5, k=3)), gf.Polytope(rng.standard_normal((7, 5))))
@@ -460,10 +460,11 @@ def test_record_matches_the_compiled_result(method):
 
 
 def test_rays_of_any_type_and_layout_agree():
-    # the compiled call takes a C-contiguous float64 (n,) array without checking it
-    # (graspforce._signature.entry_point); every other r is converted on the way: never a
-    # misread array, a new compilation or a different answer
-    from graspforce.ray_shoot import shoot_packed
+    # the compiled call takes a C-contiguous float64 (n,) array (graspforce._core.shoot_packed,
+    # which refuses anything else); every other r is converted on the way: never a misread
+    # array or a different answer
+    from graspforce._core import capacity
+    from graspforce.ray_shoot import METHODS as CODES, shoot_packed
     A = gf.hull(gf.Ball([0.2, 0.0, 0.1], 1.0), gf.Box([0.5, 1.5, 0.7]))
     r = np.array([0.3, -1.0, 2.0])
     gf.ray_shoot(A, r)
@@ -476,7 +477,22 @@ def test_rays_of_any_type_and_layout_agree():
         res = gf.ray_shoot(A, same)
         assert res.t == ref.t and np.array_equal(res.point, ref.point)
     assert gf.ray_shoot(A, np.array([0, 0, 1])).t == gf.ray_shoot(A, np.array([0.0, 0, 1])).t
-    assert len(shoot_packed.signatures) == 1
+    # the compiled entry point itself takes exactly that kind of array (read-only too: it does
+    # not write to r) and gives ray_shoot's answer; any other r raises TypeError, unconverted
+    ints, floats = A.program
+    ws = A.witness_size
+    packed = np.empty(capacity(A.dim, ws))
+
+    def compiled(r):
+        return shoot_packed(ints, floats, r, ws, CODES["zc-ie"], 1e-9, 10000, packed,
+                            A._start_table)
+
+    for exact in (r, frozen, r.reshape(1, 3)[0]):
+        assert compiled(exact)[1] == ref.t
+    for other in (r.tolist(), tuple(r), r.astype(np.float32), np.array([3, -10, 20]),
+                  np.repeat(r, 2)[::2], r.reshape(1, 3), r.reshape(3, 1)):
+        with pytest.raises(TypeError):
+            compiled(other)
     for bad in (np.array([1.0, 2.0]), np.zeros((3, 1)), np.array([1.0, np.nan, 0.0]),
                 np.zeros(3), np.arange(6.0)[::2][:2]):
         with pytest.raises(ValueError, match="r"):

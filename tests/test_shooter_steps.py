@@ -7,11 +7,9 @@ import pytest
 from scipy.optimize import nnls
 
 import graspforce as gf
-from graspforce._distance import scratch
-from graspforce._kernel import support
-from graspforce._shooters import (HIT, WITH_IE, _matvec, _pivot, _restart, _simplex_exit,
-                                  _zc_loop_3, _zc_loop_6, _zc_loop_9, _zc_loop_any, start_state,
-                                  zc_drive, zc_from, zc_work)
+from graspforce._core import HIT, support
+from graspforce._core.testing import (WITH_IE, matvec, pivot, restart, simplex_exit, zc_from,
+                                      zc_loop)
 
 
 def on_ray_simplex(rng, n, k, r):
@@ -40,7 +38,7 @@ def test_restart_keeps_r_along_the_face_in_the_others_cone(n, k):
         Wt = np.zeros((k + 2, 3))
         Wt[:k, 0] = np.arange(k)          # the rows' identities, to see which one went
         lam = np.concatenate([lam0, [0.0, 0.0]])
-        kept = _restart(P, Wt, lam, k, r, scratch(n))
+        kept = restart(P, Wt, lam, k, r)
         assert kept == k - 1
         rows = Wt[:kept, 0].astype(int)
         assert len(set(rows)) == kept and set(rows) <= set(range(k))
@@ -62,7 +60,7 @@ def test_restart_drops_negligible_weights_first():
     Wt = np.zeros((n + 2, 1))
     Wt[:n, 0] = np.arange(n)
     lam = np.concatenate([lam0, [0.0, 0.0]])
-    kept = _restart(P, Wt, lam, n, r, scratch(n))
+    kept = restart(P, Wt, lam, n, r)
     assert kept == 1
     assert Wt[0, 0] != 2
 
@@ -83,8 +81,8 @@ def test_simplex_exit_is_where_a_barycentric_weight_reaches_zero(n):
         Wt[:, 0] = np.arange(n + 1)
         lam = lam0.copy()
         M, lu = np.empty((n + 1, n + 1)), np.empty((n + 1, n + 1))
-        t, k = _simplex_exit(P, Wt, lam, n + 1, r, t0, M, lu, np.empty(n + 1, np.int64),
-                             np.empty(n + 1), np.empty(n + 2))
+        t, k = simplex_exit(P, Wt, lam, n + 1, r, t0, M, lu, np.empty(n + 1, np.int64),
+                            np.empty(n + 1), np.empty(n + 2))
         assert t > t0 and k == n
         weights = np.linalg.solve(A, np.append(t * r, 1.0))
         assert weights.min() >= -1e-12 and np.abs(weights).min() <= 1e-12
@@ -110,10 +108,10 @@ def test_pivot_keeps_the_facet_inverse(n):
     for _ in range(8):
         s = rng.standard_normal(n) + 3.0 * np.eye(n)[rng.integers(n)]
         alpha = np.empty(n)
-        _matvec(B, n, s, alpha)
+        matvec(B, n, s, alpha)
         np.testing.assert_allclose(alpha, np.linalg.solve(P.T, s), rtol=1e-10, atol=1e-12)
         js = int(np.argmax(np.abs(alpha)))
-        _pivot(B, n, alpha, js, y, gam)
+        pivot(B, n, alpha, js, y, gam)
         P[js] = s
         inverse = np.linalg.inv(P.T)
         np.testing.assert_allclose(B, inverse, rtol=1e-9, atol=1e-11)
@@ -121,11 +119,11 @@ def test_pivot_keeps_the_facet_inverse(n):
         np.testing.assert_allclose(gam, inverse @ r, rtol=1e-9, atol=1e-11)
 
 
-@pytest.mark.parametrize("n, version", [(3, _zc_loop_3), (6, _zc_loop_6), (9, _zc_loop_9)])
-def test_zc_ie_compiled_for_its_dimension_agrees_with_the_general_version(n, version):
-    """The versions of zc_from's loop compiled for n = 3, 6, 9 shoot as the general one does: both
-    certify t* to eps on the same rays (a sum of an ellipsoid and a polytope, curved and flat
-    faces, the origin inside), and their brackets overlap."""
+@pytest.mark.parametrize("n", [3, 6, 9])
+def test_zc_ie_compiled_for_its_dimension_agrees_with_the_general_version(n):
+    """The versions of zc_from's loop compiled for n = 3, 6, 9 shoot as the general one (0: any
+    n) does: both certify t* to eps on the same rays (a sum of an ellipsoid and a polytope,
+    curved and flat faces, the origin inside), and their brackets overlap."""
     rng = np.random.default_rng(n)
     L = rng.standard_normal((n, n)) + 2.0 * np.eye(n)
     V = rng.standard_normal((3 * n, n))
@@ -137,15 +135,8 @@ def test_zc_ie_compiled_for_its_dimension_agrees_with_the_general_version(n, ver
     for _ in range(20):
         r = rng.standard_normal(n)
         shots = []
-        for loop, args in ((version, ()), (_zc_loop_any, (n,))):
-            none = np.empty((0, 0))
-            simplex = np.empty((n + 2, n)), np.empty((n + 2, ws)), np.empty(n + 2)
-            work = zc_work(n, ws)
-            start_state(work[0], n, ws, 0.0, 0, 0, 0)
-            code = loop(ints, floats, r, ws, eps, 10000, WITH_IE, *simplex, none, none, *work,
-                        *args)
-            out = zc_drive(ints, floats, r, ws, eps, 10000, WITH_IE, *simplex, none, none,
-                           *work, code)
+        for compiled_for in (n, 0):
+            out = zc_loop(ints, floats, r, ws, eps, 10000, WITH_IE, compiled_for)
             assert out[0] == HIT
             assert out[2] - out[1] <= eps * out[1]
             shots.append((out[1], out[2]))
@@ -154,7 +145,7 @@ def test_zc_ie_compiled_for_its_dimension_agrees_with_the_general_version(n, ver
 
 
 def probe_facet(A, r, spread, rng):
-    """IE's start as graspforce._warm makes it: the support points P of A in n unit directions
+    """IE's start as core/warm.hpp makes it: the support points P of A in n unit directions
     D around r (a tilted guess, so that the facet is not already at z_A(r)), the weights of the
     ray's crossing t r = lam @ P and t; None when the ray misses the facet."""
     ints, floats = A.program
@@ -246,8 +237,7 @@ def test_probes_that_miss_the_ray_are_recentred_by_the_secant_model(n):
     direction exactly (P_j = rho d_j, so r = sum_j gam_j P_j is along sum_j gam_j d_j): the
     second round of probes, centred there at the same spread, holds the ray, and the secant
     query then reaches z_A(r) = rho r / |r| in two steps."""
-    from graspforce._packed import capacity
-    from graspforce._warm import shoot_warm
+    from graspforce._core import capacity, shoot_warm
     rng = np.random.default_rng(20 + n)
     rho = 1.3
     A = gf.Ball(np.zeros(n), rho)

@@ -7,6 +7,7 @@ from scipy.spatial import ConvexHull
 
 import graspforce as gf
 import graspforce._start_table as ST
+from graspforce._core.testing import table_start
 import truth as T
 from conftest import build, random_polytope
 from benchmarks.grasp_sets import ingot_grasp_sets
@@ -25,13 +26,13 @@ def _table_parts(table):
 
 
 def _start(A, r):
-    """table_start run from Python: (t_0, facet points, weights, witness rows), after checking
-    the facet's hyperplane and inverse against the points."""
+    """The core's table_start (core/start_table.hpp) run from Python: (t_0, facet points, weights,
+    witness rows), after checking the facet's hyperplane and inverse against the points."""
     n = A.dim
     P, Wt, lam = np.empty((n + 2, n)), np.empty((n + 2, A.witness_size)), np.empty(n + 2)
     y, B = np.empty(n), np.empty((n, n))
-    t = ST.table_start(A._start_table, A.program[1], np.asarray(r, float), P, Wt, lam, y, B,
-                      np.empty(int(A._start_table[0])))
+    t = table_start(A._start_table, A.program[1], np.asarray(r, float), P, Wt, lam, y, B,
+                    np.empty(int(A._start_table[0])))
     if t > 0.0:
         # B inverts the matrix whose columns are the facet's points; they lie on y^T x = 1
         assert np.allclose(B @ P[:n].T, np.eye(n), atol=1e-9)
