@@ -5,13 +5,20 @@ measured by two benchmark runs one after the other. Here both versions are loade
 (as packages gf_a and gf_b) and every case is timed A then B, seven times, keeping each one's
 minimum.
 
-    NUMBA_CACHE_DIR=$(mktemp -d) python -m benchmarks.ab <checkout A> <checkout B>
+    python -m benchmarks.ab <checkout A> <checkout B>
 
-(an empty cache directory: the two versions' compiled code must not mix; both compile first,
-about three minutes each). Cases: growth distance on the protocol's contact pairs, ray_shoot
-ZC-IE on the ingot's W_L1, min_force L1 and Linf on the ingot grasp (benchmarks/README.md).
+Each checkout's compiled core (graspforce._core) is taken from its build folder, where
+`pip install -e .` or `pip wheel --no-deps -w /tmp/wheels <checkout>` leaves it
+(build/<wheel tag>/), or from its package folder: a checkout made with `git worktree add` must
+be built first. A checkout from before the C++ core compiles with Numba instead: give it an empty
+NUMBA_CACHE_DIR, so that no other version's compiled code is reused. Cases: growth distance on
+the protocol's contact pairs, ray_shoot ZC-IE on the ingot's W_L1, min_force L1 and Linf on the
+ingot grasp (benchmarks/README.md).
 """
+import glob
+import importlib.machinery
 import importlib.util
+import os
 import sys
 import time
 
@@ -24,14 +31,39 @@ REPEATS = 7
 
 
 def load(checkout, name):
-    """The package `graspforce` of a checkout, imported as `name`."""
+    """The package `graspforce` of a checkout, imported as `name`, with its own compiled core."""
     root = f"{checkout}/graspforce"
     spec = importlib.util.spec_from_file_location(name, f"{root}/__init__.py",
                                                   submodule_search_locations=[root])
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module
+    core = _built_core(checkout)
+    if core is not None:
+        # registered ahead of the package, whose `from ._core import ...` then finds it
+        core_spec = importlib.util.spec_from_file_location(f"{name}._core", core)
+        core_module = importlib.util.module_from_spec(core_spec)
+        sys.modules[core_spec.name] = core_module
+        core_spec.loader.exec_module(core_module)
+        module._core = core_module
     spec.loader.exec_module(module)
     return module
+
+
+def _built_core(checkout):
+    """The path of a checkout's compiled core outside its package folder (the newest of its
+    build folders), or None: a package folder's own is found by the import itself, and a
+    checkout from before the C++ core has none."""
+    if any(os.path.exists(f"{checkout}/graspforce/_core{suffix}")
+           for suffix in importlib.machinery.EXTENSION_SUFFIXES):
+        return None
+    built = [path for suffix in importlib.machinery.EXTENSION_SUFFIXES
+             for path in glob.glob(f"{checkout}/build/*/_core{suffix}")]
+    if not built:
+        if os.path.exists(f"{checkout}/core/bindings.cpp"):
+            raise SystemExit(f"{checkout}: no compiled core; build it first, e.g. "
+                             f"pip wheel --no-deps -w /tmp/wheels {checkout}")
+        return None
+    return max(built, key=os.path.getmtime)
 
 
 def cases(gf, pairs, wrenches):

@@ -27,7 +27,7 @@ import sys
 import numpy as np
 
 from benchmarks.grasp_sets import MU, MU_S, ingot_grasp, random_wrenches
-from benchmarks.ray_shoot import PAPER_TABLES, _cpu_name, _timed_pass
+from benchmarks.ray_shoot import PAPER_TABLES, _cpu_name, _timed_pass, core_description
 
 METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie", "zc-ie-newton")
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -144,7 +144,6 @@ def paper_table(all_rows):
 
 def run(n=1000, eps=1e-9, seed=0, magnitude="normal", methods=METHODS, out_path=None, log=print):
     import clarabel
-    import numba
     import osqp
     import qpsolvers
 
@@ -164,7 +163,7 @@ def run(n=1000, eps=1e-9, seed=0, magnitude="normal", methods=METHODS, out_path=
         all_rows[(norm, magnitude)] = rows
         lines += table(rows, norm, magnitude, eps, n, seed) + [""]
     lines += paper_table(all_rows) + [""]
-    lines.append(f"Environment: numpy {np.__version__}, numba {numba.__version__}, clarabel "
+    lines.append(f"Environment: numpy {np.__version__}, {core_description()}, clarabel "
                  f"{clarabel.__version__}, osqp {osqp.__version__}, qpsolvers "
                  f"{qpsolvers.__version__}, {_cpu_name()}.")
     text = "\n".join(lines) + "\n"

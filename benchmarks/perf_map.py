@@ -1,78 +1,41 @@
-"""Profile the compiled code with Linux `perf`: where does a ZC-IE ray shot spend its time?
+"""Profile the compiled core with Linux `perf`: where does a ZC-IE ray shot spend its time?
 
-perf sees Numba's machine code as anonymous "[JIT]" addresses. This script writes the map file
-perf reads for such code (/tmp/perf-<pid>.map: start, size, name per function), then runs ZC-IE on
-the ingot grasp's W_L1 long enough to sample. The compiled libraries keep their symbol tables only
-when they were compiled in this process, so point Numba at an empty cache directory:
+Runs ZC-IE (without a start table) on the ingot grasp's W_L1 in a compiled loop
+(graspforce._core.timing.shoot_loop), long enough to sample, with Python out of the way. perf
+reads the names of the core's functions from the extension's symbol table, which a Release build
+strips (nanobind strips Release and MinSizeRel builds): build with symbols first, profile, then
+build as usual again:
 
-    NUMBA_CACHE_DIR=$(mktemp -d) perf record -o /tmp/perf.data python -m benchmarks.perf_map
+    pip install -e . --no-deps -Ccmake.build-type=RelWithDebInfo
+    OPENBLAS_NUM_THREADS=1 perf record -o /tmp/perf.data python -m benchmarks.perf_map
     perf report -i /tmp/perf.data --no-children --sort symbol
+    pip install -e . --no-deps
 
-(the first two minutes of samples are compilation; the [JIT] rows are the run). Shares of the
-[JIT] samples at 9c1198a: support 28%, zc_from's own loop 14%, NRT reference counting 10%,
-_matvec 8%, lu_solve 7%, lstsq 7%, _keep 5%, _pivot 5%, _matvec_t_ones 4%.
+(nanobind compiles RelWithDebInfo at -Os, as it does Release, so the profile is of the same
+code; with one BLAS thread, no idle BLAS thread spins through the samples.) `--reps` sets the
+passes over the 500 rays (about 5 ms a pass).
 """
-import os
+import argparse
 import sys
 
-from numba import njit
+import numpy as np
 
 from benchmarks.grasp_sets import ingot_grasp_sets, random_wrenches
-from graspforce import _shooters as S
+from graspforce._core import ZC_IE, timing
 
 
-@njit
-def _shoot_all(ints, floats, R, ws, reps):
-    total = 0.0
-    for _ in range(reps):
-        for i in range(R.shape[0]):
-            total += S.zc_family(ints, floats, R[i], ws, 1e-9, 1000, S.WITH_IE)[1]
-    return total
-
-
-def write_perf_map(dispatcher, path=None):
-    """Write /tmp/perf-<pid>.map for every function linked into `dispatcher`'s compiled code;
-    returns the number of functions. Zero when the code came from Numba's cache."""
-    entries, seen = [], set()
-
-    def visit(library):
-        if id(library) in seen:
-            return
-        seen.add(id(library))
-        module = getattr(library, "_final_module", None)
-        if module is not None:
-            engine = library._codegen._engine
-            for fn in module.functions:
-                if not fn.is_declaration:
-                    address = engine.get_function_address(fn.name)
-                    if address:
-                        entries.append((address, fn.name))
-        for linked in getattr(library, "_linking_libraries", ()):
-            visit(linked)
-
-    for compiled in dispatcher.overloads.values():
-        visit(compiled.library)
-    if not entries:
-        return 0
-    entries.sort()
-    path = path or f"/tmp/perf-{os.getpid()}.map"
-    with open(path, "w") as f:
-        ends = [start for start, _ in entries[1:]] + [entries[-1][0] + 4096]
-        for (start, name), end in zip(entries, ends):
-            f.write(f"{start:x} {end - start:x} {name}\n")
-    return len(entries)
-
-
-def main(reps=300):
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--reps", type=int, default=1000, help="passes over the rays (default 1000)")
+    args = ap.parse_args(argv)
     W, _ = ingot_grasp_sets()
-    R = -random_wrenches(500)
+    R = np.ascontiguousarray(-random_wrenches(500))
     ints, floats = W.program
-    _shoot_all(ints, floats, R, W.witness_size, 1)
-    if not write_perf_map(_shoot_all):
-        sys.exit("no symbols: the code came from Numba's cache; set NUMBA_CACHE_DIR to an empty "
-                 "directory")
-    _shoot_all(ints, floats, R, W.witness_size, reps)
+    ns, total = timing.shoot_loop(ints, floats, R, W.witness_size, ZC_IE, 1e-9, 1000, args.reps)
+    print(f"{args.reps} passes over {len(R)} rays: median shot {np.median(ns) / 1e3:.2f} us, "
+          f"least pass {ns.sum(axis=1).min() / 1e6:.1f} ms (sum of t {total:.6g})")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -109,69 +109,20 @@ def _timed_pass(fn, rays):
     return times, out
 
 
-def _kernel_program(W):
-    """The compiled support program of W and the kernel function, if the library exposes them."""
-    try:
-        from graspforce import _kernel
-    except ImportError:
-        return None
-    kernel = getattr(_kernel, "support", None)
-    if kernel is None:
-        return None
-    for name in ("program", "_program", "prog", "_prog", "compiled", "_compiled"):
-        obj = getattr(W, name, None)
-        if callable(obj):
-            try:
-                obj = obj()
-            except TypeError:
-                continue
-        if isinstance(obj, tuple) and obj:
-            return kernel, obj, name
-    return None
+def _time_compiled_support(W, U, support_closed_form, passes=5, sweeps=20):
+    """ns per support call of the core's kernel on W.program, from a compiled loop over the
+    directions U (graspforce._core.timing): the least of `passes` passes of `sweeps` sweeps, after
+    checking the loop's sum of h against the closed form."""
+    from graspforce._core import timing
 
-
-def _time_jitted_support(kernel, prog, U, wit_size, support_L1_any):
-    """ns per support call from inside a jitted loop over the directions U."""
-    from numba import njit
-
-    # the program is a tuple of arrays; the kernel takes them splatted (support(*prog, u, point,
-    # wit)) or as one tuple (support(prog, u, point, wit)): try the former first
-    @njit(cache=False)
-    def loop_splat(prog, U, point, wit, reps):
-        acc = 0.0
-        for _ in range(reps):
-            for i in range(U.shape[0]):
-                acc += kernel(*prog, U[i], point, wit)
-        return acc
-
-    @njit(cache=False)
-    def loop_tuple(prog, U, point, wit, reps):
-        acc = 0.0
-        for _ in range(reps):
-            for i in range(U.shape[0]):
-                acc += kernel(prog, U[i], point, wit)
-        return acc
-
-    point = np.zeros(U.shape[1])
-    wit = np.zeros(wit_size)
-    try:
-        loop = loop_splat
-        loop(prog, U[:2], point, wit, 1)        # compile
-    except Exception:
-        loop = loop_tuple
-        loop(prog, U[:2], point, wit, 1)
-    acc = loop(prog, U, point, wit, 1)
-    ref = sum(support_L1_any(u) for u in U)
-    if not abs(acc - ref) <= 1e-9 * max(1.0, abs(ref)):
-        raise RuntimeError(f"jitted kernel sum {acc!r} != closed-form sum {ref!r}")
-    reps = 20
-    best = None
-    for _ in range(5):
-        t0 = time.perf_counter_ns()
-        loop(prog, U, point, wit, reps)
-        dt = (time.perf_counter_ns() - t0) / (reps * U.shape[0])
-        best = dt if best is None else min(best, dt)
-    return best
+    ints, floats = W.program
+    point, wit = np.empty(W.dim), np.empty(W.witness_size)
+    _, total = timing.support_loop(ints, floats, U, point, wit, 1)
+    ref = sum(support_closed_form(u) for u in U)
+    if not abs(total - ref) <= 1e-9 * max(1.0, abs(ref)):
+        raise RuntimeError(f"compiled loop's sum {total!r} != closed-form sum {ref!r}")
+    ns, _ = timing.support_loop(ints, floats, U, point, wit, passes, sweeps)
+    return float(ns.min())
 
 
 # ------------------------------------------------------------------------------------------------
@@ -314,17 +265,11 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
     U /= np.linalg.norm(U, axis=1)[:, None]
     sup_times, _ = _timed_pass(W.support, U)
     sup_check = max(abs(W.support(u)[0] - support_L1(ellipsoids, u)) for u in U[:200])
-    jit_ns, jit_note = None, "the library exposes no compiled program on the set"
-    found = _kernel_program(W)
-    if found is not None:
-        kernel, prog, name = found
-        wit_size = _witness_size(W, prog)
-        try:
-            jit_ns = _time_jitted_support(kernel, prog, U, wit_size,
-                                          lambda u: support_L1(ellipsoids, u))
-            jit_note = f"graspforce._kernel.support on W.{name}, inside an njit loop"
-        except Exception as exc:
-            jit_note = f"jitted loop failed: {type(exc).__name__}: {exc}"
+    try:
+        loop_ns = _time_compiled_support(W, U, lambda u: support_L1(ellipsoids, u))
+        loop_note = "the core's support on W.program, in graspforce._core.timing.support_loop"
+    except Exception as exc:
+        loop_ns, loop_note = None, f"compiled loop failed: {type(exc).__name__}: {exc}"
 
     # --- tables
     with open(PAPER_TABLES) as f:
@@ -358,8 +303,8 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
     lines.append("")
     lines.append(f"Bare support call h_W(u), s_W(u) on W_L1: W.support(u) from Python "
                  f"median {_us(np.median(sup_times)):.2f} us (mean {_us(np.mean(sup_times)):.2f} us); "
-                 + (f"compiled kernel in a jitted loop {jit_ns:.0f} ns ({jit_note})."
-                    if jit_ns is not None else f"compiled kernel: not timed ({jit_note}).")
+                 + (f"compiled kernel in a compiled loop {loop_ns:.0f} ns ({loop_note})."
+                    if loop_ns is not None else f"compiled kernel: not timed ({loop_note}).")
                  + f" max |h_W - closed form| over 200 directions: {sup_check:.1e}.")
     lines.append("")
     lines.append("Checks (hit rays): `max rel t vs clarabel` = max |t - t_clarabel| / t_clarabel "
@@ -410,9 +355,8 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
             lines.append(f"- {m}: `{e}`")
         lines.append("")
     import clarabel
-    import numba
     lines.append(f"Environment: Python {platform.python_version()}, numpy {np.__version__}, "
-                 f"numba {numba.__version__}, clarabel {clarabel.__version__}, "
+                 f"{core_description()}, clarabel {clarabel.__version__}, "
                  f"{platform.machine()} {_cpu_name()}.")
     text = "\n".join(lines) + "\n"
     if out_path:
@@ -422,14 +366,10 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
     return text, rows, errors, problems
 
 
-def _witness_size(W, prog):
-    """Length of the witness vector for the program: library attribute if any, else an upper bound."""
-    for name in ("witness_size", "_witness_size", "wit_size", "_wit_size"):
-        v = getattr(W, name, None)
-        if isinstance(v, (int, np.integer)):
-            return int(v)
-    # upper bound: no leaf's witness slot is longer than all the float parameters plus one
-    return int(sum(np.asarray(a).size for a in prog) + 64)
+def core_description():
+    """The compiled core and its compiler, for the environment lines."""
+    from graspforce._core import timing
+    return f"graspforce core: C++ (nanobind; {timing.compiler})"
 
 
 def _cpu_name():

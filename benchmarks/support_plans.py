@@ -3,24 +3,23 @@
 A program whose plan is not GENERAL (graspforce._kernel: the soft fingers' wrench sets, bare or
 lifted; sums of posed 3-D bodies) is evaluated by a loop of its own; the same program with its
 plan entry set to GENERAL runs the four passes every other program runs. Both are timed here in
-one process, round by round (least of ROUNDS), inside a jitted loop over random unit directions,
-after checking that they return the same value, point and witnesses. Sets: the ingot grasp's
-W_L1 (R^6) and W_Linf's lift (R^9, what min_force shoots for Linf); the growth protocol's
+one process, round by round (least of ROUNDS), inside a compiled loop over random unit directions
+(graspforce._core.timing.support_loop), after checking that they return the same value, point
+and witnesses. Sets: the ingot grasp's W_L1 (R^6) and W_Linf's lift (R^9, what min_force shoots
+for Linf); the growth protocol's
 Delta = R_A(A_0) - R_B(B_0) (an ellipsoid and a truncated cone, leaves the plan evaluates in
 registers), the same for a box and a polytope (leaves it evaluates by the passes' leaf code), and,
 as a program that keeps the passes, a capsule's Delta (a sum under each pose).
 
     python -m benchmarks.support_plans
 """
-import time
-
 import numpy as np
-from numba import njit
 
 import graspforce as gf
 from benchmarks.grasp_sets import ingot_grasp
 from benchmarks.growth_sets import protocol_pairs
 from graspforce import _kernel as K
+from graspforce._core import timing
 from graspforce.wrench_space import lift_rows, lift_summand
 
 ROUNDS = 7
@@ -28,18 +27,10 @@ DIRECTIONS = 1000
 REPS = 100
 
 
-@njit(cache=False)
 def _loop(ints, floats, U, reps, ws):
-    point = np.empty(U.shape[1])
-    wit = np.empty(ws)
-    u = np.empty(U.shape[1])
-    total = 0.0
-    for _ in range(reps):
-        for i in range(U.shape[0]):
-            for a in range(U.shape[1]):
-                u[a] = U[i, a]
-            total += K.support(ints, floats, u, point, wit)
-    return total
+    """ns per support call over `reps` sweeps of U's rows, from a compiled loop."""
+    ns, _ = timing.support_loop(ints, floats, U, np.empty(U.shape[1]), np.empty(ws), 1, reps)
+    return ns[0]
 
 
 def sets():
@@ -97,9 +88,7 @@ def main():
             _loop(program, floats, U, 1, A.witness_size)
         for _ in range(ROUNDS):
             for key, program in (("plan", ints), ("general", general)):
-                t0 = time.perf_counter_ns()
-                _loop(program, floats, U, REPS, A.witness_size)
-                best[key] = min(best[key], (time.perf_counter_ns() - t0) / (REPS * DIRECTIONS))
+                best[key] = min(best[key], _loop(program, floats, U, REPS, A.witness_size))
         plan = {K.GENERAL: "GENERAL", K.ELLIPSOID_HULL: "ELLIPSOID_HULL",
                 K.POSED_SUM: "POSED_SUM"}[int(ints[-1])]
         rows.append((name, plan, best["plan"], best["general"], _same_answers(A, U[:200])))

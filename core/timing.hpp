@@ -90,11 +90,12 @@ inline std::tuple<nb::object, double> support_loop(I1 ints, F1 floats, In2 U, F1
         const gf::IVec iv = ivec(ints);
         const gf::Vec fv = vec(floats), pv = vec(point), wv = vec(wit);
         const size_t k = U.shape(0);
+        const double calls = static_cast<double>(sweeps) * static_cast<double>(k);
         for (std::int64_t p = 0; p < passes; ++p) {
             const Clock::time_point t0 = Clock::now();
             for (std::int64_t s = 0; s < sweeps; ++s)
                 for (size_t i = 0; i < k; ++i) total += gf::support(iv, fv, row(U, i), pv, wv);
-            ns.data[static_cast<size_t>(p)] = ns_since(t0) / static_cast<double>(sweeps * static_cast<std::int64_t>(k));
+            ns.data[static_cast<size_t>(p)] = ns_since(t0) / calls;
         }
     }
     return {numpy(std::move(ns)), total};
@@ -178,11 +179,28 @@ inline void bind_timing(nanobind::module_& m) {
     namespace nb = nanobind;
     using namespace nb::literals;
     nb::module_ t = m.def_submodule("timing", "Timing loops for the benchmarks.");
+    // the compiler and its optimization level, for the benchmarks' environment lines (the
+    // predefined macros tell -Os, which nanobind's Release builds use, from the speed levels)
+#if defined(__clang__)
+    const std::string compiler = "clang " __clang_version__;
+#elif defined(__GNUC__)
+    const std::string compiler = "GCC " __VERSION__;
+#else
+    const std::string compiler = "an unknown compiler";
+#endif
+#if defined(__OPTIMIZE_SIZE__)
+    const char* level = "-Os";
+#elif defined(__OPTIMIZE__)
+    const char* level = "optimized for speed";
+#else
+    const char* level = "unoptimized";
+#endif
+    t.attr("compiler") = nb::str((compiler + ", " + level).c_str());
     t.def("support_loop", &gf_timing::support_loop, "ints"_a.noconvert(),
           "floats"_a.noconvert(), "U"_a.noconvert(), "point"_a.noconvert(), "wit"_a.noconvert(),
           "passes"_a, "sweeps"_a = 1,
-          "support(ints, floats, U[i], point, wit) for every row of U, `sweeps` times per pass: "
-          "(ns per call in each pass, sum of h).");
+          "support(ints, floats, U[i], point, wit) for every row of U, `sweeps` times per pass "
+          "(wit: the set's witness_size entries): (ns per call in each pass, sum of h).");
     t.def("growth_loop", &gf_timing::growth_loop, "ints"_a.noconvert(), "floats"_a.noconvert(),
           "R_a"_a.noconvert(), "p_a"_a.noconvert(), "R_b"_a.noconvert(), "p_b"_a.noconvert(),
           "packed"_a.noconvert(), "passes"_a,
