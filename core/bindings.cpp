@@ -7,92 +7,16 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/stl/tuple.h>
 
-#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
-#include <numpy/arrayobject.h>
-
-#include <cstring>
 #include <tuple>
 #include <utility>
 
-#include "all.hpp"
+#include "python.hpp"
 #include "testing.hpp"
 #include "timing.hpp"
 
 namespace nb = nanobind;
 using namespace nb::literals;
-
-// A NumPy array argument, read straight off the array object: dtype, rank, C order and (for the
-// arrays the core writes to) writability are checked, nothing is converted. nanobind's generic
-// ndarray caster costs ~150 ns an argument, several times a support call; this one costs a few.
-template <class T, int TYPENUM, int NDIM, bool WRITES>
-struct NumpyArg {
-    T* data = nullptr;
-    gf::Int rows = 0;
-    gf::Int cols = 0;
-};
-using F1 = NumpyArg<double, NPY_FLOAT64, 1, true>;         // the core writes to it
-using I1 = NumpyArg<std::int64_t, NPY_INT64, 1, true>;     // a program's ints (scratch blocks)
-using In1 = NumpyArg<double, NPY_FLOAT64, 1, false>;       // read only
-using In2 = NumpyArg<double, NPY_FLOAT64, 2, false>;
-
-namespace nanobind::detail {
-template <class T, int TYPENUM, int NDIM, bool WRITES>
-struct type_caster<NumpyArg<T, TYPENUM, NDIM, WRITES>> {
-    using Arg = NumpyArg<T, TYPENUM, NDIM, WRITES>;
-    NB_TYPE_CASTER(Arg, const_name("numpy.ndarray"))
-
-    bool from_python(handle src, uint8_t, cleanup_list*) noexcept {
-        PyObject* o = src.ptr();
-        if (!PyArray_Check(o)) return false;
-        auto* a = reinterpret_cast<PyArrayObject*>(o);
-        if (PyArray_TYPE(a) != TYPENUM || PyArray_NDIM(a) != NDIM ||
-            !PyArray_IS_C_CONTIGUOUS(a) || !PyArray_ISALIGNED(a) || !PyArray_ISNOTSWAPPED(a))
-            return false;
-        if (WRITES && !PyArray_ISWRITEABLE(a)) return false;
-        value.data = static_cast<T*>(PyArray_DATA(a));
-        value.rows = static_cast<gf::Int>(PyArray_DIM(a, 0));
-        value.cols = NDIM == 2 ? static_cast<gf::Int>(PyArray_DIM(a, 1)) : 0;
-        return true;
-    }
-
-    static handle from_cpp(const Arg&, rv_policy, cleanup_list*) noexcept {
-        return none().release();
-    }
-};
-}  // namespace nanobind::detail
-
-namespace {
-
-gf::Vec vec(const F1& a) { return {a.data, a.rows}; }
-gf::IVec ivec(const I1& a) { return {a.data, a.rows}; }
-// the core takes views of mutable doubles; it does not write to the arrays passed as In1, In2
-gf::Vec vec(const In1& a) { return {a.data, a.rows}; }
-gf::Mat mat(const In2& a) { return {a.data, a.rows, a.cols, a.cols}; }
-
-// a new NumPy array holding an Array's entries
-nb::object numpy(const gf::Array& a) {
-    npy_intp dims[2] = {static_cast<npy_intp>(a.rows), static_cast<npy_intp>(a.cols)};
-    PyObject* o = PyArray_SimpleNew(a.ndim, dims, NPY_FLOAT64);
-    if (o == nullptr) throw nb::python_error();
-    if (!a.data.empty())
-        std::memcpy(PyArray_DATA(reinterpret_cast<PyArrayObject*>(o)), a.data.data(),
-                    a.data.size() * sizeof(double));
-    return nb::steal(o);
-}
-
-using HeadTuple = std::tuple<gf::Int, double, double, double, gf::Int, gf::Int, gf::Int, gf::Int>;
-
-HeadTuple head_tuple(const gf::Head& h) {
-    return {h.status, h.t, h.t_up, h.h_n, h.iters, h.calls, h.singular, h.k};
-}
-
-nb::tuple shot_tuple(gf::Shot&& s) {
-    return nb::make_tuple(s.status, s.t, s.t_up, s.h_n, s.iters, s.calls,
-                          numpy(s.normal), numpy(s.V),
-                          numpy(s.lam), numpy(s.W), s.singular);
-}
-
-}  // namespace
+using namespace gf_python;
 
 NB_MODULE(_core, m) {
     if (_import_array() < 0) throw nb::python_error();

@@ -18,7 +18,7 @@
 #include <tuple>
 #include <utility>
 
-#include "all.hpp"
+#include "python.hpp"
 
 namespace gf_testing {
 
@@ -55,23 +55,9 @@ inline void require(bool ok, const char* what) {
     if (!ok) throw nb::value_error(what);
 }
 
-// a NumPy array that takes over an Array's entries
-inline nb::object numpy(gf::Array&& a) {
-    auto* owned = new gf::Array(std::move(a));
-    nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<gf::Array*>(p); });
-    size_t shape[2] = {static_cast<size_t>(owned->rows), static_cast<size_t>(owned->cols)};
-    return nb::cast(nb::ndarray<nb::numpy, double>(owned->data.data(),
-                                                    static_cast<size_t>(owned->ndim), shape,
-                                                    owner));
-}
+using gf_python::numpy;
 
-// a shot as graspforce._core.shoot returns it: (status, t, t_upper, h_n, iterations, calls,
-// normal, V, weights, W, singular)
-inline nb::tuple shot_tuple(gf::Shot&& s) {
-    return nb::make_tuple(s.status, s.t, s.t_up, s.h_n, s.iters, s.calls,
-                          numpy(std::move(s.normal)), numpy(std::move(s.V)),
-                          numpy(std::move(s.lam)), numpy(std::move(s.W)), s.singular);
-}
+using gf_python::shot_tuple;
 
 // The dimension of a program's root node, after checking that `ints` holds a program's blocks:
 // ints = [nn, kind (nn), dim (nn), ...].

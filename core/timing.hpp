@@ -17,7 +17,7 @@
 #include <tuple>
 #include <utility>
 
-#include "all.hpp"
+#include "python.hpp"
 
 namespace gf_timing {
 
@@ -49,15 +49,7 @@ inline double ns_since(Clock::time_point t0) {
     return std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
 }
 
-// a NumPy array that takes over an Array's entries
-inline nb::object numpy(gf::Array&& a) {
-    auto* owned = new gf::Array(std::move(a));
-    nb::capsule owner(owned, [](void* p) noexcept { delete static_cast<gf::Array*>(p); });
-    size_t shape[2] = {static_cast<size_t>(owned->rows), static_cast<size_t>(owned->cols)};
-    return nb::cast(nb::ndarray<nb::numpy, double>(owned->data.data(),
-                                                    static_cast<size_t>(owned->ndim), shape,
-                                                    owner));
-}
+using gf_python::numpy;
 
 // the dimension of a program's root node: ints = [nn, kind (nn), dim (nn), ...]
 inline gf::Int root_dim(I1& ints) {
