@@ -2,7 +2,7 @@
 
 IE (section 3.2) queries the support map in the normal of the facet the ray crosses, a cutting
 plane step: its facet shrinks by about half a step on curved contacts, so a query at eps = 1e-9
-takes 26-36 support calls (issue 4, BENCHMARKS.md). This script counts the calls of other rules on
+takes 26-36 support calls. This script counts the calls of other rules on
 the same pairs, to show which change could cut them. It is not timed: the shooter here is plain
 numpy around `Delta.support_witness`, and only the number of support calls is compared.
 

@@ -13,7 +13,7 @@ vertices a_j. That facet is IE's start: a facet of points of A that the ray cros
 Nothing of the table is trusted beyond that: t_0 r is the convex combination (gam / sum gam) of
 support points of A, so t_0 <= t* whichever facet the lookup picked; IE's steps and stopping rule
 are unchanged. The table keeps a copy of the set's parameters and is ignored when they changed
-(graspforce._growth rewrites a set's poses in place), and when no facet of the table holds the
+(the growth query rewrites a set's poses in place), and when no facet of the table holds the
 ray (some gam_j < 0: a ridge met to rounding, or a facet left out below): ZC then starts from the
 origin as usual. A facet of CH(P_0) with more than n points is split by Qhull into simplices that
 share its hyperplane; the lookup takes the one of them that holds the ray.
@@ -88,8 +88,7 @@ def _spread(points):
     """L^T for the Cholesky factor L of the points' covariance: z L^T ~ N(0, cov) for z ~ N(0, I).
     Random rays spread like the set itself meet its facets in proportion to the rays that real
     problems shoot: isotropic ones, in a wrench space whose torques are 25x smaller than its
-    forces (the ingot), missed the facets of 15% of the benchmark's wrenches (BENCHMARKS.md,
-    "Stop 19")."""
+    forces (the ingot), missed the facets of 15% of the benchmark's wrenches."""
     k = points.shape[1]
     cov = np.cov(points.T)
     return np.linalg.cholesky(cov + 1e-12 * np.trace(cov) * np.eye(k)).T

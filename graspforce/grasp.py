@@ -114,8 +114,7 @@ class Grasp:
         wrench space, the method's code, the compiled entry point and its constant arguments,
         and of the target (graspforce.wrench_space.Target) its set, packed size, extra entries
         and t_scale. One lookup a call instead of four and their attributes: with the slotted
-        MinForce, the Python around the compiled call went from ~1.9 to ~1.4 us (BENCHMARKS.md,
-        "Stop 18")."""
+        MinForce, the Python around the compiled call went from ~1.9 to ~1.4 us."""
         code = METHODS[check_choice(method, METHODS, "method")]
         space = self._space(norm, magnitude)
         target = space.target(method)

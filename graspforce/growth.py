@@ -74,11 +74,11 @@ class GrowthDistance:
     once, and each call writes the two rotations into its support program in place.
 
     warm_start (method "zc-ie" only): each call after a certified one starts IE from support
-    points in directions spread around the previous normal (graspforce._warm); for a pair that
+    points in directions spread around the previous normal (core/warm.hpp); for a pair that
     moves little between calls (time coherence). Other "zc-ie" calls start from support points
-    spread around r (graspforce._growth.COLD_SPREAD); both instead of ZC from the origin, to
+    spread around r (COLD_SPREAD, core/growth.hpp); both instead of ZC from the origin, to
     which they fall back. The compiled query keeps that memory at the end of the program's
-    floats (graspforce._growth).
+    floats (core/growth.hpp).
     """
 
     def __init__(self, A, B, method="zc-ie", eps=1e-9, max_iter=10000, touching_tol=1e-9,
@@ -99,7 +99,7 @@ class GrowthDistance:
         self.delta = MinkowskiSum([Affine(np.eye(3), A), Affine(-np.eye(3), B)])
         ints, floats = self.delta.program
         # the query's constants and memory go at the end of the program's floats
-        # (graspforce._growth, TAIL): the kernel reads floats at its nodes' offsets only
+        # (TAIL, core/growth.hpp): the kernel reads floats at its nodes' offsets only
         floats = np.concatenate((floats, np.zeros(TAIL)))
         self.delta._program = (ints, floats)
         # an Affine node's parameters are [m, n, M (row-major), t]: M starts 2 further

@@ -2,7 +2,7 @@
 
 Each set is a small tree: primitive leaves (polytope, ellipsoid, box, truncated cone) combined by
 convex hull, Minkowski sum and affine maps. The tree compiles once to the flat support program
-evaluated by `graspforce._kernel.support`, which returns h_A(u) and s_A(u) of eq. (2) together
+evaluated by the core's `support` (core/kernel.hpp), which returns h_A(u) and s_A(u) of eq. (2) together
 with a witness: which leaves produced the point and their leaf-local pre-images.
 """
 import numpy as np
@@ -36,7 +36,7 @@ class ConvexSet:
     # -- compiled form ----------------------------------------------------------------------
     @property
     def program(self):
-        """The support program (ints, floats) read by the jitted kernel `_kernel.support`."""
+        """The support program (ints, floats) read by the compiled kernel (core/kernel.hpp)."""
         prog = self.__dict__.get("_program")
         if prog is None:
             prog, self._witness_slots = _compile(self)
@@ -390,7 +390,7 @@ def _origin_hull(node):
 
 
 def _compile(root):
-    """Flatten the tree in pre-order into the arrays of `_kernel.support`."""
+    """Flatten the tree in pre-order into the arrays of the support kernel (graspforce._kernel)."""
     nodes = []   # (set, parent index)
     stack = [(root, -1)]
     while stack:

@@ -110,7 +110,7 @@ class Target:
         self.extra = extra_size(m)
         self.packed_size = self.extra + capacity(self.set.dim, self.set.witness_size)
         # what every min_force call passes to the compiled code after its own arguments
-        # (graspforce._forces.SIGNATURE), gathered once: ~1 us a call saved
+        # (graspforce._core.shoot_and_read_forces), gathered once: ~1 us a call saved
         ints, floats = self.set.program
         self.compiled_args = (ints, floats, force_reader(self.set.witness_size, linf, full,
                                                          contact_matrices, table, forces_map,

@@ -1,5 +1,5 @@
 """gf.Contact: the grasp map of eq. (11), its frame, the friction cone of eq. (12) and its input
-checks (issue 3)."""
+checks."""
 import math
 
 import numpy as np

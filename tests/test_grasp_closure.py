@@ -1,4 +1,4 @@
-"""Force closure and the Ferrari-Canny quality on the exact cones (issue 3) against LPs on friction
+"""Force closure and the Ferrari-Canny quality on the exact cones against LPs on friction
 pyramids written here and the closed-form support of W (truth.py)."""
 import math
 

@@ -1,4 +1,4 @@
-"""Grasp.min_force (issue 3) against independent truth: the closed form of the paper's sphere
+"""Grasp.min_force against independent truth: the closed form of the paper's sphere
 (NOTES.md item 1), a Clarabel SOCP written in truth.py, and certificates evaluated with the
 closed-form support functions of truth.py (never graspforce's own)."""
 import math
@@ -522,15 +522,14 @@ def test_answers_on_grasps_that_are_not_closure_certify_or_say_so(norm):
     # ZC's normal is nearly orthogonal to r (docs/core-api.md, "Rays along the boundary of
     # CO(A)"). With two point contacts the grasp map is invertible, the forces are unique and
     # the minimum is sum(lam) (L1) or max(lam) (Linf) exactly; elsewhere the tight SOCP is the
-    # yardstick. Stop 19 found "optimal" answers 5e-8 below the exact minimum (ZC accepted a
-    # point that its weights reproduced to ~1e-8) and 10 of 60 shots stalled; since stop 20
-    # every answer is checked on the ray and Newton finishes the corners. Every lower bound
+    # yardstick. ZC once accepted a point that its weights reproduced to ~1e-8 ("optimal"
+    # answers 5e-8 below the exact minimum) and 10 of 60 shots stalled; every answer is now
+    # checked on the ray and Newton finishes the corners. Every lower bound
     # stays below the truth; every "optimal" answer is certified by a bound recomputed here,
     # matches the truth, and its forces lie in their cones and resist w to 1e-9. "max_iter"
     # remains on corners that neither Newton nor GJK-based steps finish (measured with "zc-ie":
-    # 3 of 60 wrenches for L1, 3 for Linf, none of them two point contacts; stop 19's note: 10
-    # of 60 for L1; before the hand-over to GJK-based, 4 for L1, and on an AMD EPYC one of them
-    # two point contacts).
+    # 3 of 60 wrenches for L1, 3 for Linf, none of them two point contacts; before the hand-over
+    # to GJK-based, 4 for L1, and on an AMD EPYC one of them two point contacts).
     from graspforce.baselines import clarabel_socp
     open_answers = 0
     for trial, grasp, lams, w, two_points in edge_of_cone_cases(60, weights_first=False):

@@ -1,4 +1,4 @@
-"""The contact wrench sets of issue 3: the support of a friction cone cut by the unit ball (the
+"""The contact wrench sets of eq. (14): the support of a friction cone cut by the unit ball (the
 full magnitude of eq. 15) and the analytic supports of W_i, W_L1 and W_Linf, against closed forms
 and Clarabel SOCPs written here."""
 import math

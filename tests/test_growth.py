@@ -1,4 +1,4 @@
-"""Growth distance (issue 4) against the paper's protocol, closed forms, an SOCP and coal."""
+"""Growth distance against the paper's protocol, closed forms, an SOCP and coal."""
 import numpy as np
 import pytest
 import scipy.sparse as sp

@@ -43,7 +43,7 @@ def test_ie_does_not_repeat_a_vertex_at_the_numerical_floor():
     # full magnitude, 3 contacts, eps at the floor (3e-12): IE's updated inverse drifts, so a
     # support point equal to a vertex of the facet can still look beyond it by ~1e-10; the step
     # then replaced that vertex by itself, forever (max_iter). The step now refactors instead
-    # (graspforce._shooters, BENCHMARKS.md "Stop 22"). Rays within 1e-9 of one that did this
+    # (core/zc_family.hpp). Rays within 1e-9 of one that did this
     rng = np.random.default_rng(3)
     # the case found: the fifth of five wrenches on the second random grasp (2, then 3 contacts)
     random_grasp(rng, 2)
@@ -100,7 +100,7 @@ def test_second_order_finish_on_the_lift(magnitude):
     # ZC-IE-Newton's pieces, curvature and flat leaves pass through them (graspforce._piece).
     # Rays towards points of lam_1 W_1 + ... + lam_m W_m (0 < lam_i < 1), inside W_Linf; contacts
     # with friction, at least three (two contacts never hold an object in closure, and rays near
-    # the boundary of their wrench cone stall ZC: the note of stop 19)
+    # the boundary of their wrench cone stall ZC)
     rng = np.random.default_rng(5)
     for m in range(3, LIFT_MAX_CONTACTS + 1):
         grasp = random_grasp(rng, m, kinds=("soft", "point"))

@@ -1,4 +1,4 @@
-"""The solvers users would use instead of ray shooting: our yardstick (issue 3).
+"""The solvers users would use instead of ray shooting: our yardstick.
 
 One module per solver family, one signature, the same `gf.MinForce` record as
 `Grasp.min_force` (shot None, support_calls 0):
