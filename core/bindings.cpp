@@ -2,8 +2,10 @@
 //
 // Every entry point takes NumPy arrays of exactly the documented kind (C-contiguous float64, or
 // int64 for programs) and refuses anything else with a TypeError, without converting: several of
-// them write into their arguments (the packed result, the program's scratch), which a converted
-// copy would lose. The computation runs with the GIL released.
+// them write into their arguments (the packed result; the growth query's program), which a
+// converted copy would lose. The computation runs with the GIL released, and every entry point but
+// the growth query works on its own copy of the set's program (`program_copy`), so threads may
+// shoot at one set at the same time.
 #include <nanobind/nanobind.h>
 #include <nanobind/stl/tuple.h>
 
@@ -24,9 +26,10 @@ NB_MODULE(_core, m) {
 
     m.def(
         "support",
-        [](I1 ints, F1 floats, In1 u, F1 point, F1 wit) {
+        [](InI1 ints, In1 floats, In1 u, F1 point, F1 wit) {
             nb::gil_scoped_release nogil;
-            return gf::support(ivec(ints), vec(floats), vec(u), vec(point), vec(wit));
+            const Program prog = program_copy(ints, floats);
+            return gf::support(prog.ints, prog.floats, vec(u), vec(point), vec(wit));
         },
         "ints"_a.noconvert(), "floats"_a.noconvert(), "u"_a.noconvert(),
         "point"_a.noconvert(), "wit"_a.noconvert(),
@@ -34,11 +37,12 @@ NB_MODULE(_core, m) {
 
     m.def(
         "closest_point",
-        [](I1 ints, F1 floats, In1 b, gf::Int ws, double eps, gf::Int max_iter) {
+        [](InI1 ints, In1 floats, In1 b, gf::Int ws, double eps, gf::Int max_iter) {
             gf::ClosestOut out;
             {
                 nb::gil_scoped_release nogil;
-                out = gf::closest_point(ivec(ints), vec(floats), vec(b), ws, eps, max_iter);
+                const Program prog = program_copy(ints, floats);
+                out = gf::closest_point(prog.ints, prog.floats, vec(b), ws, eps, max_iter);
             }
             return nb::make_tuple(out.status, out.d, out.gap, out.it, out.calls,
                                   numpy(out.v), numpy(out.V),
@@ -50,11 +54,12 @@ NB_MODULE(_core, m) {
 
     m.def(
         "cone_distance",
-        [](I1 ints, F1 floats, In1 b, gf::Int ws, double eps, gf::Int max_iter) {
+        [](InI1 ints, In1 floats, In1 b, gf::Int ws, double eps, gf::Int max_iter) {
             gf::ConeOut out;
             {
                 nb::gil_scoped_release nogil;
-                out = gf::cone_distance(ivec(ints), vec(floats), vec(b), ws, eps, max_iter);
+                const Program prog = program_copy(ints, floats);
+                out = gf::cone_distance(prog.ints, prog.floats, vec(b), ws, eps, max_iter);
             }
             return nb::make_tuple(out.status, out.d, out.h, out.it, out.calls,
                                   numpy(out.v), numpy(out.normal),
@@ -68,12 +73,13 @@ NB_MODULE(_core, m) {
 
     m.def(
         "shoot",
-        [](I1 ints, F1 floats, In1 r, gf::Int ws, gf::Int method, double eps,
+        [](InI1 ints, In1 floats, In1 r, gf::Int ws, gf::Int method, double eps,
            gf::Int max_iter) {
             gf::Shot out;
             {
                 nb::gil_scoped_release nogil;
-                out = gf::shoot(ivec(ints), vec(floats), vec(r), ws, method, eps, max_iter);
+                const Program prog = program_copy(ints, floats);
+                out = gf::shoot(prog.ints, prog.floats, vec(r), ws, method, eps, max_iter);
             }
             return shot_tuple(std::move(out));
         },
@@ -84,10 +90,11 @@ NB_MODULE(_core, m) {
 
     m.def(
         "shoot_packed",
-        [](I1 ints, F1 floats, In1 r, gf::Int ws, gf::Int method, double eps, gf::Int max_iter,
+        [](InI1 ints, In1 floats, In1 r, gf::Int ws, gf::Int method, double eps, gf::Int max_iter,
            F1 packed, In1 table) {
             nb::gil_scoped_release nogil;
-            return head_tuple(gf::shoot_packed(ivec(ints), vec(floats), vec(r), ws, method, eps,
+            const Program prog = program_copy(ints, floats);
+            return head_tuple(gf::shoot_packed(prog.ints, prog.floats, vec(r), ws, method, eps,
                                                max_iter, vec(packed), vec(table)));
         },
         "ints"_a.noconvert(), "floats"_a.noconvert(), "r"_a.noconvert(), "ws"_a, "method"_a,
@@ -96,12 +103,13 @@ NB_MODULE(_core, m) {
 
     m.def(
         "shoot_and_read_forces",
-        [](In1 w_ext, gf::Int method, double eps, gf::Int max_iter, F1 packed, In1 start, I1 ints,
-           F1 floats, In1 reader) {
+        [](In1 w_ext, gf::Int method, double eps, gf::Int max_iter, F1 packed, In1 start,
+           InI1 ints, In1 floats, In1 reader) {
             nb::gil_scoped_release nogil;
+            const Program prog = program_copy(ints, floats);
             return head_tuple(gf::shoot_and_read_forces(vec(w_ext), method, eps, max_iter,
-                                                        vec(packed), vec(start), ivec(ints),
-                                                        vec(floats), vec(reader)));
+                                                        vec(packed), vec(start), prog.ints,
+                                                        prog.floats, vec(reader)));
         },
         "w_ext"_a.noconvert(), "method"_a, "eps"_a, "max_iter"_a, "packed"_a.noconvert(),
         "start"_a.noconvert(), "ints"_a.noconvert(), "floats"_a.noconvert(),
@@ -110,10 +118,11 @@ NB_MODULE(_core, m) {
 
     m.def(
         "shoot_warm",
-        [](I1 ints, F1 floats, In1 r, gf::Int ws, double eps, gf::Int max_iter, In1 normal,
+        [](InI1 ints, In1 floats, In1 r, gf::Int ws, double eps, gf::Int max_iter, In1 normal,
            double spread, F1 packed, gf::Int e) {
             nb::gil_scoped_release nogil;
-            return head_tuple(gf::shoot_warm(ivec(ints), vec(floats), vec(r), ws, eps, max_iter,
+            const Program prog = program_copy(ints, floats);
+            return head_tuple(gf::shoot_warm(prog.ints, prog.floats, vec(r), ws, eps, max_iter,
                                              vec(normal), spread, vec(packed), e));
         },
         "ints"_a.noconvert(), "floats"_a.noconvert(), "r"_a.noconvert(), "ws"_a, "eps"_a,
