@@ -155,6 +155,9 @@ Int keep(Mat P, Mat Wt, Vec lam, Int k, Mat Pz, Mat Wz, Vec lz, Int changed = -1
 bool holds(Mat P, Vec lam, Int k, double t, Vec r, Vec b, double tol);
 constexpr double FACET_HOLDS = 1e-12;   // holds: an IE step's facet weights
 constexpr double POINT_HOLDS = 1e-9;    // holds: ZC's and Bi-GJK's final point
+// the tolerance a final point is held to: POINT_HOLDS, or eps where it is tighter (a point off the
+// ray by more than eps t would widen the certified bracket beyond eps), not below FACET_HOLDS
+inline double point_holds(double eps) { return std::min(POINT_HOLDS, std::max(eps, FACET_HOLDS)); }
 
 // ---- zc_family.hpp ----------------------------------------------------------------------
 // Pz, Wz, lz: the caller's, at least n + 2 rows (written to). inverse: (n, n) or 0 rows.

@@ -120,7 +120,7 @@ Shot bi_gjk_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter,
     double t_up = t_hi;
     for (Int it = 0; it < max_iter; ++it) {
         if (t_up - t_lo <= eps * t_lo) {
-            if (holds(Pz, lz, kz, t_lo, r, point, POINT_HOLDS)) {
+            if (holds(Pz, lz, kz, t_lo, r, point, point_holds(eps))) {
                 // a table's t_lo = 1 / sum(gam) can exceed t_up by an ulp or two where the ray
                 // leaves A exactly at a vertex of the table's facet
                 return make_result(HIT, std::min(t_lo, t_up), t_up, best_h, it + 1, calls,

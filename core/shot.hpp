@@ -69,12 +69,20 @@ Int keep(Mat P, Mat Wt, Vec lam, Int k, Mat Pz, Mat Wz, Vec lz, Int changed) {
     return k;
 }
 
-// Whether the weights lam[:k] of the rows P[:k] reproduce t r (written to b) to tol relative,
+// Whether lam[:k] are convex weights (>= -tol, summing to 1 within tol) of the rows P[:k] that
+// reproduce t r (written to b) to tol relative,
 // or to the sum's own rounding, 1e-14 sum_j lam_j ||P_j|| (about 50 unit roundoffs; it matters
 // where the origin is near A's boundary and t r is far shorter than the points that make it:
 // the paper's sphere at lambda = 1e-5). The point on the ray is then in A to that accuracy.
 // Relative, unlike `reproduce`'s floor: A's units do not matter.
 bool holds(Mat P, Vec lam, Int k, double t, Vec r, Vec b, double tol) {
+    // a convex combination: weights >= 0 summing to 1, to tol
+    double total = 0.0;
+    for (Int j = 0; j < k; ++j) {
+        if (lam[j] < -tol) return false;
+        total += lam[j];
+    }
+    if (!(std::abs(total - 1.0) <= tol)) return false;
     for (Int i = 0; i < r.n; ++i) b[i] = t * r[i];
     const std::pair<double, double> rb = residual2(P, lam, k, b);
     const double res = rb.first, bb = rb.second;

@@ -129,6 +129,19 @@ inline bool invert_facet(Mat P, Int n, Mat M, IVec piv, Mat B) {
     }
 }
 
+// t of the convex combination gam / sum(gam) of the facet's points that is t r, when every
+// weight is >= 0 and the hyperplane n (h = h_A(n), nr = n^T r) closes the bracket on it to eps;
+// 0 otherwise. 1 / (y^T r) is the same t in exact arithmetic, but on a nearly degenerate facet y
+// carries its conditioning's rounding, and the weights gam / (y^T r) need not sum to 1: a point
+// outside A (a growth-distance contact pair at eps = 1e-10 was certified 1.1e-7 off the truth).
+inline double certified_t(Vec gam, Int n, double h, double nr, double eps) {
+    double gsum = 0.0;
+    for (Int j = 0; j < n; ++j) gsum += gam[j];
+    if (!(gsum > 0.0 && smallest(gam, n) >= 0.0 && nr > 0.0)) return 0.0;
+    const double tz = 1.0 / gsum;
+    return h / nr - tz <= eps * tz ? tz : 0.0;
+}
+
 // Warm start for the next ZC call (section 3.3) from b = sum_l lam_l P_l, the new point on the
 // ray: the generators P_l - b are linearly dependent (sum_l lam_l (P_l - b) = 0), so one point
 // must go. Drop the one whose loss leaves r_L, the part of r along aff(P[:k]), inside the cone
@@ -334,8 +347,11 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                 k = restart(P, Wt, lam, kz, r, sc);
             } else if (smallest(gam, n) <= 1e-12 * yr) {
                 // the ray crosses a lower-dimensional face of the facet: keep that face and
-                // continue with ZC-based iterations (section 3.4.2)
-                t = 1.0 / yr;
+                // continue with ZC-based iterations (section 3.4.2), from the convex
+                // combination of its points (certified_t: not 1 / y^T r)
+                double gsum = 0.0;
+                for (Int j = 0; j < n; ++j) gsum += std::max(gam[j], 0.0);
+                t = 1.0 / gsum;
                 for (Int j = 0; j < n; ++j) lam[j] = std::max(gam[j], 0.0) * t;
                 kz = keep(P, Wt, lam, n, Pz, Wz, lz);
                 Int j = n - 1;
@@ -399,14 +415,20 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                 }
                 it += 1;
                 if (closed && fresh_only) {
-                    for (Int j = 0; j < n; ++j) lam[j] = gam[j] * t;
-                    kz = keep(P, Wt, lam, n, Pz, Wz, lz);
-                    code = HIT;
-                    t_up = query_secant ? h / dot(nvec, r) : h * ny / yr;
-                    h_n = h;
-                    break;
-                }
-                if (closed) {
+                    // the fresh LU's weights, as a convex combination (certified_t)
+                    const double nr = dot(nvec, r);
+                    const double tz = certified_t(gam, n, h, nr, eps);
+                    if (tz > 0.0) {
+                        for (Int j = 0; j < n; ++j) lam[j] = gam[j] * tz;
+                        kz = keep(P, Wt, lam, n, Pz, Wz, lz);
+                        code = HIT;
+                        t = tz;
+                        t_up = h / nr;
+                        h_n = h;
+                        break;
+                    }
+                    // not a certified point of A: the step goes on
+                } else if (closed) {
                     // certify: the normal and h_A(n) already evaluated bound t from above
                     // whatever n is; from below, t r must be the convex combination
                     // gam / sum(gam) of the facet's points, checked by its residual (the updated
@@ -427,11 +449,8 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                             matvec(B, n, alpha, v);
                             for (Int j = 0; j < n; ++j) gam[j] += v[j];
                         }
-                        double gsum = 0.0;
-                        for (Int j = 0; j < n; ++j) gsum += gam[j];
-                        if (!(gsum > 0.0 && smallest(gam, n) >= 0.0)) break;
-                        const double tz = 1.0 / gsum;
-                        if (h / nr - tz > eps * tz) break;
+                        const double tz = certified_t(gam, n, h, nr, eps);
+                        if (tz == 0.0) break;
                         for (Int j = 0; j < n; ++j) lam[j] = gam[j] * tz;
                         if (holds(P, lam, n, tz, r, b, FACET_HOLDS)) {
                             kz = keep(P, Wt, lam, n, Pz, Wz, lz);
@@ -444,10 +463,9 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                     }
                     if (code == HIT) break;
                     ok = solve_facet(P, n, r, M, lu, piv, ones, y, gam);
-                    yr = dot(y, r);
-                    if (ok && yr > 0.0 && smallest(gam, n) >= 0.0 &&
-                        h / nr - 1.0 / yr <= eps / yr) {
-                        t = 1.0 / yr;
+                    const double tz = ok ? certified_t(gam, n, h, nr, eps) : 0.0;
+                    if (tz > 0.0) {
+                        t = tz;
                         for (Int j = 0; j < n; ++j) lam[j] = gam[j] * t;
                         kz = keep(P, Wt, lam, n, Pz, Wz, lz);
                         code = HIT;
@@ -492,7 +510,9 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                     // lift at eps = 3e-12)
                     if (fresh_only) {
                         code = LIMIT;
-                        t_up = h * ny / yr;
+                        // the queried normal's bound (the secant direction's, when that was
+                        // queried: not y's)
+                        t_up = h / dot(nvec, r);
                         h_n = h;
                         break;
                     }
@@ -578,7 +598,7 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
         h_n = h + t * dot(nvec, r);
         t_up = h_n / dot(nvec, r);
         if ((st == CONVERGED || t_up - t <= std::max(eps, STALL_FLOOR) * t) &&
-            holds(Pz, lz, kz, t, r, b, POINT_HOLDS))
+            holds(Pz, lz, kz, t, r, b, point_holds(eps)))
             code = HIT;
         else
             code = NEWTON_END;

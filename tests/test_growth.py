@@ -48,6 +48,18 @@ def test_paper_protocol(method, case):
         assert res.normal @ -pair["normal"] >= 1 - 1e-8
 
 
+def test_certified_bracket_holds_the_truth_on_every_protocol_pair():
+    # the benchmark's 3000 pairs at eps = 1e-10: a nearly degenerate IE facet once made ZC-IE
+    # certify a bracket 1.1e-7 away from the truth (pair 811: weights 1e-11, 1e-13 and 1 whose
+    # y^T r disagreed with their sum), so every pair's bracket is checked here, to the rounding
+    # of the certificate itself (points of A to 1e-12 relative, on a facet that ill-conditioned)
+    for i, pair in enumerate(protocol_pairs(3000, 0)):
+        E, C = shapes(pair, 1.0)
+        res = gf.growth_distance(E, (pair["R_e"], pair["p_e"]), C, (pair["R_c"], pair["p_c"]),
+                                 eps=1e-10)
+        assert res.sigma_lower <= 1 + 1e-11 and res.sigma_upper >= 1 - 1e-11, (i, res)
+
+
 def _support_ellipsoid(axes, R, p, sigma, n):
     # closed form: h(n) = n^T p + sigma ||diag(axes) R^T n||
     return n @ p + sigma * np.linalg.norm(axes * (R.T @ n))
