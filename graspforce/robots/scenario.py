@@ -76,13 +76,23 @@ class Scenario:
         return Scenario(self.spec, self.model, q, self.contact_frames, self.contact_offsets,
                         self.contact_specs)
 
-    def solve(self, norm="L1", magnitude="normal", method="zc-ie", eps=1e-9, w_ext=None):
-        """The minimal contact forces (Grasp.min_force) for the scenario's load, or for w_ext
-        (a wrench about the reference point, e.g. from centroidal_wrench), with their world
-        forces and the joint torques that realize them: a RobotForces."""
+    def solve(self, norm="L1", magnitude="normal", method="zc-ie", eps=1e-9, w_ext=None,
+              v=None, a=None):
+        """The minimal contact forces (Grasp.min_force) for the scenario's load, with their world
+        forces and the joint torques that realize them: a RobotForces. w_ext replaces the load
+        (a wrench about the reference point); for a floating base, a motion (v, a) at the
+        scenario's q asks for the forces of centroidal_wrench(q, v, a), and the torques come
+        from inverse dynamics of that motion."""
+        moving = v is not None or a is not None
+        if moving:
+            v = np.zeros(self.model.nv) if v is None else np.asarray(v, dtype=float)
+            a = np.zeros(self.model.nv) if a is None else np.asarray(a, dtype=float)
+            if w_ext is not None:
+                raise ValueError("w_ext: give either w_ext or a motion (v, a), not both")
+            w_ext = self.centroidal_wrench(self.q, v, a)
         w = self.external_wrench if w_ext is None else np.asarray(w_ext, dtype=float)
         record = self.grasp.min_force(w, norm=norm, magnitude=magnitude, method=method, eps=eps)
-        torques = joint_torques(self, record.wrenches)
+        torques = joint_torques(self, record.wrenches, v, a)
         return RobotForces(self, record, torques)
 
     def centroidal_wrench(self, q, v, a):
