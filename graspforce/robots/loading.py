@@ -46,10 +46,7 @@ def build(spec):
     def fail(field, rule):
         raise ValueError(f"{spec.source}: {field}: {rule}")
 
-    try:
-        model = models.load_model(spec.robot)
-    except ValueError as exc:
-        fail("robot.model", str(exc).split(": ", 1)[1])
+    model = models.load_model(spec.robot)
     model.gravity = pin.Motion(spec.gravity, np.zeros(3))
     floating = models.is_floating(spec.robot)
     if floating and spec.object.shape != "terrain":

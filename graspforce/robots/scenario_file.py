@@ -12,6 +12,8 @@ import tomllib
 
 import numpy as np
 
+from .models import ROBOTS
+
 SHAPES = ("sphere", "box", "polyhedron", "terrain")
 KINDS = ("point", "soft", "patch")
 FRAME_AXES = {"frame x": (0, 1.0), "frame -x": (0, -1.0), "frame y": (1, 1.0),
@@ -139,7 +141,7 @@ def parse(data, source, name="scenario"):
     top = _Fields(source, "", data)
     description = top.string("description", required=False, default="")
     robot = _Fields(source, "robot", top.get("robot"))
-    model = robot.string("model")
+    model = robot.string("model", choices=sorted(ROBOTS))
     robot.done()
 
     config = _Fields(source, "configuration", top.get("configuration", required=False, default={}))

@@ -54,7 +54,7 @@ class RobotForces:
     torques (entries in the order of the model's velocity vector; the first six of a floating
     base are the unactuated base wrench); effort_limit (nv,) from the URDF (inf where none);
     over_limit (nv,) bool: |torque| > limit."""
-    scenario: object
+    scenario: object = dataclasses.field(repr=False)
     record: MinForce
     torques: np.ndarray
 
