@@ -2,7 +2,7 @@
 
 ZC-IE (section 3.4.2) begins with ZC from the origin, which spends about n + 1 support calls and as
 many active-set projections to find a first facet that the ray crosses; on the ingot grasp's W_L1
-that search is 4.3 of a shot's 11.4 us (BENCHMARKS.md, "Start table"). When many rays are shot at
+that search is 4.3 of a shot's 11.4 us (docs/design.md, "Start tables"). When many rays are shot at
 one set (min_force over many wrenches, a ray_shoot loop), the search can be done once for all:
 the support points P_0 of A in the 2n directions +-q_j (q_j a fixed orthonormal basis in general
 position) span an inner polytope CH(P_0) in A. When the origin is strictly inside it, its facets

@@ -30,7 +30,7 @@ with the first m - 1 of the coordinates e kept (they sum to 1). A point of C wit
 facets in C combine the contacts' support points freely, where a facet of the sum is made of n
 sums of m points each: a cutting-plane model of each summand instead of one of their sum. On the
 ingot grasp IE needs 28 steps on C (R^9) against 63 on the sum (R^6) at eps = 1e-9
-(BENCHMARKS.md, "The Linf lift"). A vertex of C is one contact's wrench (or the origin), so the
+(docs/design.md, "W_Linf's lift"). A vertex of C is one contact's wrench (or the origin), so the
 forces are read off as for W_L1: f_i = sum_k (lam_k / t') u_ki over the vertices of contact i,
 whose weights sum to 1/m.
 """
@@ -86,7 +86,7 @@ def lift_rows(m):
 # the methods that shoot W_Linf's lift: IE's steps halve there. The distance-based ones gain
 # nothing (ZC-based, Bi-GJK) or lose digits in R^(m + 5): GJK-based's final simplex on the
 # paper's sphere at lambda = 1e-6 lies 1e-7 off the ray, read as forces 1e-7 off the minimum;
-# the Newton finish takes more time there, not less (BENCHMARKS.md, "The Linf lift").
+# the Newton finish takes more time there, not less (docs/design.md, "W_Linf's lift").
 LIFTED_METHODS = ("ie", "zc-ie")
 # ... and only for a few contacts: an IE step's algebra grows as (m + 5)^2 and the lift's steps
 # stop halving (grasps on a sphere, lift over sum per call: m = 2 0.71, 4 0.60, 6 0.84, 8 0.99

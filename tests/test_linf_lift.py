@@ -78,7 +78,7 @@ def test_which_methods_and_grasps_shoot_the_lift():
 
 
 def test_lift_halves_ie_steps_on_the_ingot():
-    # the reason for the lift (BENCHMARKS.md, "The Linf lift"): IE's cutting planes model each
+    # the reason for the lift (docs/design.md, "W_Linf's lift"): IE's cutting planes model each
     # contact's set, not their sum. Same wrenches, same answers, steps counted by the shooters.
     from benchmarks.grasp_sets import ingot_grasp, random_wrenches
     grasp = ingot_grasp()
