@@ -35,8 +35,8 @@ from ._core.growth import (BAD_POSE_A, COINCIDENT, EPS, FRAME, MA, MAX_ITER, MB,
 from ._kernel import children, param_start
 from ._validate import check_choice, finite_array
 from .quality import facet_expansion
-from .ray_shoot import METHODS, check_tolerances, make_ray_shot
-from .results import GrowthDistanceResult
+from .ray_shoot import METHODS, check_tolerances
+from .results import GrowthDistanceResult, RayShot
 from .sets import Affine, ConvexSet, MinkowskiSum
 
 ORIGIN_TOL = 1e-9      # an origin closer than this fraction of the set's width to its boundary
@@ -137,39 +137,37 @@ class GrowthDistance:
         return GrowthDistanceResult(sigma, lower, upper, _VERDICTS[verdict], self.method,
                                     iterations, calls, (self, code, packed))
 
+    def shot_of(self, result):
+        """The RayShot on Delta and R(p_B - p_A) behind a GrowthDistanceResult (None if the
+        reference points coincide)."""
+        _, code, packed = result._raw
+        if code == COINCIDENT:
+            return None
+        status, t, t_upper, h_n, iterations, calls, singular, k = packed[POSES:FRAME].tolist()
+        head = (int(status), t, t_upper, h_n, int(iterations), int(calls), int(singular), int(k))
+        return RayShot.from_packed(self.delta, packed[21:24] - packed[9:12], self.method, head,
+                                   packed, extra=FRAME)
 
-def shot_of(result):
-    """The RayShot on Delta and R(p_B - p_A) behind a GrowthDistanceResult (None if the
-    reference points coincide)."""
-    solver, code, packed = result._raw
-    if code == COINCIDENT:
-        return None
-    status, t, t_upper, h_n, iterations, calls, singular, k = packed[POSES:FRAME].tolist()
-    head = (int(status), t, t_upper, h_n, int(iterations), int(calls), int(singular), int(k))
-    return make_ray_shot(solver.delta, packed[21:24] - packed[9:12], solver.method, head,
-                         packed, extra=FRAME)
-
-
-def contact_from_shot(result):
-    """(point_a, point_b, normal) of a GrowthDistanceResult, by the derivation above."""
-    solver, _, frame = result._raw
-    R_a, p_a = frame[:9].reshape(3, 3), frame[9:12]
-    R_b, p_b = frame[12:21].reshape(3, 3), frame[21:24]
-    shot = result.shot
-    if shot is None or not shot.hit:
-        # coincident reference points: sigma = 0 and A(0) = B(0) = {p_A}; or no certified
-        # simplex (max_iter): no contact to report
-        return p_a.copy(), p_b.copy(), np.zeros(3)
-    split = solver._leaves_a
-    a = np.zeros(3)
-    b = np.zeros(3)
-    for weight, witness in zip(shot.weights, shot.witnesses):
-        a += weight * solver.A.witness_point(tuple((j, x) for j, x in witness if j < split))
-        b += weight * solver.B.witness_point(tuple((j - split, x) for j, x in witness
-                                                   if j >= split))
-    normal = shot.normal / np.linalg.norm(shot.normal)
-    sigma = result.sigma
-    return p_a + sigma * (R_a @ a), p_b + sigma * (R_b @ b), normal
+    def contact_of(self, result):
+        """(point_a, point_b, normal) of a GrowthDistanceResult, by the derivation above."""
+        frame = result._raw[2]
+        R_a, p_a = frame[:9].reshape(3, 3), frame[9:12]
+        R_b, p_b = frame[12:21].reshape(3, 3), frame[21:24]
+        shot = result.shot
+        if shot is None or not shot.hit:
+            # coincident reference points: sigma = 0 and A(0) = B(0) = {p_A}; or no certified
+            # simplex (max_iter): no contact to report
+            return p_a.copy(), p_b.copy(), np.zeros(3)
+        split = self._leaves_a
+        a = np.zeros(3)
+        b = np.zeros(3)
+        for weight, witness in zip(shot.weights, shot.witnesses):
+            a += weight * self.A.witness_point(tuple((j, x) for j, x in witness if j < split))
+            b += weight * self.B.witness_point(tuple((j - split, x) for j, x in witness
+                                                     if j >= split))
+        normal = shot.normal / np.linalg.norm(shot.normal)
+        sigma = result.sigma
+        return p_a + sigma * (R_a @ a), p_b + sigma * (R_b @ b), normal
 
 
 def parse_pose(pose, name):

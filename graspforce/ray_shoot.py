@@ -12,7 +12,6 @@ from .sets import ConvexSet
 
 METHODS = {"gjk": S.GJK_BASED, "ie": S.IE, "zc": S.ZC_BASED, "bi-gjk": S.BI_GJK,
            "zc-ie": S.ZC_IE, "zc-ie-newton": S.ZC_IE_NEWTON}
-_STATUS = {S.HIT: "hit", S.MISS: "miss", S.LIMIT: "max_iter"}
 
 
 def check_ray(r, n):
@@ -62,7 +61,7 @@ def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=10000):
     if head is None or head[0] == BAD_RAY:
         r = np.ascontiguousarray(check_ray(r, A.dim))
         head = compiled(ints, floats, r, ws, code, eps, max_iter, packed, table)
-    return make_ray_shot(A, r, method, head, packed)
+    return RayShot.from_packed(A, r, method, head, packed)
 
 
 def shot_layout(A):
@@ -76,8 +75,3 @@ def shot_layout(A):
     A._shot_layout = (ints, floats, ws, capacity(A.dim, ws), shoot_packed)
     return A._shot_layout
 
-
-def make_ray_shot(A, r, method, head, packed, extra=0):
-    """The RayShot of a compiled result: `head` its scalars (graspforce._packed.HEAD),
-    `packed` its arrays after `extra` entries of the caller's."""
-    return RayShot(A, r, method, head[0] == S.HIT, _STATUS[head[0]], head, packed, extra)

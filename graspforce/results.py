@@ -5,8 +5,11 @@ from functools import cached_property
 
 import numpy as np
 
+from ._core import HIT, LIMIT, MISS
 from ._forces import force_views
 from ._packed import unpack
+
+_STATUS = {HIT: "hit", MISS: "miss", LIMIT: "max_iter"}
 
 
 class RayShot:
@@ -35,6 +38,12 @@ class RayShot:
             self.singular_steps, self._k = head
         self._packed = packed
         self._extra = extra
+
+    @classmethod
+    def from_packed(cls, A, r, method, head, packed, extra=0):
+        """The RayShot of a compiled result: `head` its scalars (graspforce._core.HEAD of them),
+        `packed` its arrays after `extra` entries of the caller's."""
+        return cls(A, r, method, head[0] == HIT, _STATUS[head[0]], head, packed, extra)
 
     @cached_property
     def _arrays(self):
@@ -201,11 +210,10 @@ class MinForce:
         except AttributeError:
             self._shot = None
             if self.ray is not None:
-                from .ray_shoot import make_ray_shot
                 W, w_ext, head, packed, extra = self.ray
                 r = np.zeros(W.dim)
                 r[W.dim - 6:] = -np.asarray(w_ext, dtype=float)
-                self._shot = make_ray_shot(W, r, self.method, head, packed, extra)
+                self._shot = RayShot.from_packed(W, r, self.method, head, packed, extra)
             return self._shot
 
     def __repr__(self):
@@ -265,13 +273,11 @@ class GrowthDistanceResult:
     def shot(self):
         """The RayShot on Delta and R(p_B - p_A) that certifies the bracket (None if the
         reference points coincide)."""
-        from .growth import shot_of
-        return shot_of(self)
+        return self._raw[0].shot_of(self)
 
     @cached_property
     def _contact(self):
-        from .growth import contact_from_shot
-        return contact_from_shot(self)
+        return self._raw[0].contact_of(self)
 
     @property
     def point_a(self):
