@@ -11,8 +11,8 @@ build as usual again:
     perf report -i /tmp/perf.data --no-children --sort symbol
     pip install -e . --no-deps
 
-(nanobind compiles RelWithDebInfo at -Os, as it does Release, so the profile is of the same
-code; with one BLAS thread, no idle BLAS thread spins through the samples.) `--reps` sets the
+(RelWithDebInfo compiles at -O2 with symbols, Release at -O3: close enough to find where the time
+goes, not to time it; with one BLAS thread, no idle BLAS thread spins through the samples.) `--reps` sets the
 passes over the 500 rays (about 5 ms a pass).
 """
 import argparse
