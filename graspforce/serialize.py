@@ -60,29 +60,44 @@ def set_from_dict(d, name="set"):
     if kind not in SET_TYPES:
         raise ValueError(f"{name}.type: must be one of {list(SET_TYPES)}, got {kind!r}")
     try:
-        if kind == "polytope":
-            return S.Polytope(d["vertices"])
-        if kind == "ellipsoid":
-            return S.Ellipsoid(d["center"], d["shape"])
-        if kind == "ball":
-            return S.Ball(d["center"], d["radius"])
-        if kind == "box":
-            return S.Box(d["half_extents"], d.get("center"), d.get("rotation"))
-        if kind == "truncated_cone":
-            return S.TruncatedCone(d["bottom_radius"], d["top_radius"], d["height"])
-        if kind == "capsule":
-            return S.Capsule(d["radius"], d["length"])
-        if kind == "cone_cap":
-            return S.ConeCap(d["mu"], d["dim"])
-        if kind in ("hull", "minkowski_sum"):
-            children = d["sets"]
-            if not isinstance(children, list):
-                raise TypeError(f"{name}.sets: expected a list of sets")
-            parts = [set_from_dict(X, f"{name}.sets[{i}]") for i, X in enumerate(children)]
-            return S.hull(*parts) if kind == "hull" else S.minkowski_sum(*parts)
-        return S.affine(d["matrix"], set_from_dict(d["set"], f"{name}.set"), d.get("offset"))
+        return _build(kind, d, name)
     except KeyError as missing:
         raise ValueError(f"{name}.{missing.args[0]}: required for a {kind}") from None
+    except (TypeError, ValueError) as error:
+        message = str(error)
+        if message.startswith(name + "."):      # a child's error, already named by its path
+            raise
+        field, _, rule = message.partition(": ")
+        field = _FIELDS.get(field, field)
+        raise type(error)(f"{name}.{field}: {rule}") from None
+
+
+# the library's names for what the JSON form calls otherwise
+_FIELDS = {"hull": "sets", "minkowski_sum": "sets", "M": "matrix", "t": "offset", "A": "set"}
+
+
+def _build(kind, d, name):
+    if kind == "polytope":
+        return S.Polytope(d["vertices"])
+    if kind == "ellipsoid":
+        return S.Ellipsoid(d["center"], d["shape"])
+    if kind == "ball":
+        return S.Ball(d["center"], d["radius"])
+    if kind == "box":
+        return S.Box(d["half_extents"], d.get("center"), d.get("rotation"))
+    if kind == "truncated_cone":
+        return S.TruncatedCone(d["bottom_radius"], d["top_radius"], d["height"])
+    if kind == "capsule":
+        return S.Capsule(d["radius"], d["length"])
+    if kind == "cone_cap":
+        return S.ConeCap(d["mu"], d["dim"])
+    if kind in ("hull", "minkowski_sum"):
+        children = d["sets"]
+        if not isinstance(children, list):
+            raise TypeError(f"{name}.sets: expected a list of sets")
+        parts = [set_from_dict(X, f"{name}.sets[{i}]") for i, X in enumerate(children)]
+        return S.hull(*parts) if kind == "hull" else S.minkowski_sum(*parts)
+    return S.affine(d["matrix"], set_from_dict(d["set"], f"{name}.set"), d.get("offset"))
 
 
 def contact_to_dict(c):
