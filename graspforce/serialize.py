@@ -106,8 +106,17 @@ def contact_to_dict(c):
             "mu_spin": c.mu_spin, "tangents": [c.tangents[0].tolist(), c.tangents[1].tolist()]}
 
 
-def contact_from_dict(d):
-    return Contact(d["position"], d["normal"], d["mu"], d.get("mu_spin", 0.0), d.get("tangents"))
+def contact_from_dict(d, name="contact"):
+    """The gf.Contact of a JSON form; errors name the field and the rule."""
+    if not isinstance(d, dict):
+        raise TypeError(f"{name}: expected an object with position, normal, mu")
+    try:
+        return Contact(d["position"], d["normal"], d["mu"], d.get("mu_spin", 0.0),
+                       d.get("tangents"))
+    except KeyError as missing:
+        raise ValueError(f"{name}.{missing.args[0]}: required") from None
+    except (TypeError, ValueError) as error:
+        raise type(error)(f"{name}.{error}") from None
 
 
 def grasp_to_dict(grasp):
@@ -117,8 +126,12 @@ def grasp_to_dict(grasp):
 
 
 def grasp_from_dict(d):
+    """The gf.Grasp of {"contacts": [...]}."""
     from .grasp import Grasp
-    return Grasp(contact_from_dict(c) for c in d["contacts"])
+    contacts = d.get("contacts") if isinstance(d, dict) else None
+    if not isinstance(contacts, list) or not contacts:
+        raise ValueError("contacts: required, a non-empty list of contacts")
+    return Grasp(contact_from_dict(c, f"contacts[{i}]") for i, c in enumerate(contacts))
 
 
 def pose_to_dict(pose, name="pose"):
