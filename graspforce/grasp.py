@@ -4,7 +4,7 @@ import math
 import numpy as np
 
 from ._core import BAD_WRENCH, HIT, MISS, ZERO_WRENCH, shoot_and_read_forces
-from ._start_table import start_table
+from ._start_table import UNSEEN, start_table
 from ._validate import check_choice, finite_array, finite_vector, is_vector
 from .contact import Contact
 from .quality import facet_expansion, grasp_quality
@@ -131,6 +131,17 @@ class Grasp:
                 out[i] = res.forces
         return MinForceBatch(sigma, lower, status, feasible, iterations, out, norm, magnitude,
                              method)
+
+    def reset_start_tables(self):
+        """Return the grasp's wrench sets to their never-shot state: the next min_force (or
+        min_force_batch) answers exactly as a new Grasp of the same contacts would. A set's
+        start table, built at its second shot (docs/core-api.md, "Repeated shots"), changes
+        the path to an answer and so its last digits, within eps. The service calls this
+        before every answer from a cached grasp, so that an answer depends on its request
+        alone and equals the library's first call."""
+        for space in self._spaces.values():
+            for target in space._targets.values():
+                target.set._start_table = UNSEEN
 
     def _call(self, norm, magnitude, method):
         """What min_force needs of one (norm, magnitude, method), checked and gathered once: the

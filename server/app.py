@@ -76,7 +76,8 @@ def _contact_key(c):
 
 
 def grasp_of(contacts):
-    """The gf.Grasp of these contact models, from this thread's cache when seen before."""
+    """The gf.Grasp of these contact models, from this thread's cache when seen before, reset
+    so that its answer is the one a new grasp would give (Grasp.reset_start_tables)."""
     cache = getattr(_local, "grasps", None)
     if cache is None:
         cache = _local.grasps = OrderedDict()
@@ -84,6 +85,7 @@ def grasp_of(contacts):
     grasp = cache.get(key)
     if grasp is not None:
         cache.move_to_end(key)
+        grasp.reset_start_tables()
         return grasp
     built = [_library(gf.Contact, c.position, c.normal, c.mu, c.mu_spin, c.tangents,
                       prefix=("contacts", i)) for i, c in enumerate(contacts)]
