@@ -23,6 +23,7 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.openapi.docs import get_swagger_ui_html
 from fastapi.responses import JSONResponse, Response
 from fastapi.staticfiles import StaticFiles
+from starlette.exceptions import HTTPException as StarletteHTTPException
 
 import graspforce as gf
 from graspforce.serialize import set_from_dict
@@ -272,6 +273,16 @@ def create_app(settings=None):
         # which JSON cannot carry, or megabytes)
         return _json({"detail": [{"loc": list(e.get("loc", ())), "msg": e.get("msg", ""),
                                   "type": e.get("type", "")} for e in exc.errors()]}, 422)
+
+    @app.exception_handler(StarletteHTTPException)
+    async def _http(request, exc):
+        # FastAPI answers a body it cannot decode (not UTF-8, not JSON) with 400: bad input,
+        # which this service always reports as a 422 naming the body
+        if exc.status_code == 400:
+            return _json({"detail": [{"loc": ["body"], "msg": f"the body must be UTF-8 JSON: "
+                                      f"{exc.detail}", "type": "json_invalid"}]}, 422)
+        return JSONResponse({"detail": exc.detail}, exc.status_code,
+                            headers=getattr(exc, "headers", None))
 
     @app.exception_handler(InputError)
     async def _input(request, exc):
