@@ -9,6 +9,16 @@ from .results import (ClosestPoint, ConeDistance, GraspQuality, GrowthDistanceRe
 from .sets import (Ball, Box, Capsule, ConeCap, ConvexSet, Ellipsoid, Polytope, TruncatedCone,
                    affine, hull, minkowski_sum, pose)
 
+
+
+def __getattr__(name):
+    # graspforce.robots needs Pinocchio, an optional extra: imported on first use only
+    if name == "robots":
+        import importlib
+        return importlib.import_module(".robots", __name__)
+    raise AttributeError(f"module 'graspforce' has no attribute {name!r}")
+
+
 __all__ = [
     "METHODS", "Ball", "Box", "Capsule", "ClosestPoint", "ConeCap", "ConeDistance", "Contact",
     "ConvexSet", "Ellipsoid", "Grasp", "GraspQuality", "GrowthDistance", "GrowthDistanceResult",
