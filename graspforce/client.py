@@ -115,6 +115,41 @@ class Client:
             "max_iter": max_iter, "touching_tol": touching_tol})
         return GrowthDistanceResult.from_dict(d)
 
+    def robots(self):
+        """The shipped scenarios: [{name, description, robot, floating_base, contacts}], as
+        gf.robots.list_scenarios() with each scenario's summary."""
+        return self._request("GET", "/v1/robots")
+
+    def robot(self, name):
+        """A scenario's Scenario.to_dict(): robot, configuration, load, contacts."""
+        return self._request("GET", f"/v1/robots/{name}")
+
+    def robot_forces(self, name, norm="L1", magnitude="normal", method="zc-ie", eps=1e-9,
+                     configuration=None, w_ext=None, v=None, a=None):
+        """RobotForces.to_dict() of gf.robots.load_scenario(name) (at `configuration` if
+        given).solve(...), with its "record" rebuilt as a gf.MinForce."""
+        body = {"norm": norm, "magnitude": magnitude, "method": method, "eps": eps}
+        if configuration is not None:
+            body["configuration"] = _list(configuration)
+        if w_ext is not None:
+            body["w_ext"] = _list(w_ext)
+        if v is not None or a is not None:
+            body["motion"] = {"v": None if v is None else _list(v),
+                              "a": None if a is None else _list(a)}
+        d = self._request("POST", f"/v1/robots/{name}/force-optimization", body)
+        d["record"] = MinForce.from_dict(d["record"])
+        return d
+
+    def robot_picture(self, name):
+        """The PNG bytes of Scenario.plot."""
+        for attempt in range(self.retries + 1):
+            response = self._http.get(f"/v1/robots/{name}/picture.png")
+            if response.status_code not in _RETRY_STATUS or attempt == self.retries:
+                break
+        if response.status_code != 200:
+            _answer(response)
+        return response.content
+
     def healthz(self):
         return self._request("GET", "/healthz")
 

@@ -166,6 +166,80 @@ def solve_growth_distance(body: M.GrowthDistanceIn):
     return _json(res.to_dict())
 
 
+# -- robots: one scenario cache per pool thread (a scenario's grasp and Pinocchio data are written
+# by its solves) and one lock for matplotlib, whose pyplot state is global ----------------------
+_plot_lock = threading.Lock()
+_pictures = {}
+
+
+def scenario_of(name):
+    import graspforce.robots as robots
+    cache = getattr(_local, "scenarios", None)
+    if cache is None:
+        cache = _local.scenarios = {}
+    scenario = cache.get(name)
+    if scenario is None:
+        scenario = cache[name] = robots.load_scenario(name)
+    scenario.grasp.reset_start_tables()
+    return scenario
+
+
+def robot_list():
+    import graspforce.robots as robots
+    out = []
+    for name in robots.list_scenarios():
+        s = scenario_of(name)
+        out.append({"name": name, "description": s.description, "robot": s.spec.robot,
+                    "floating_base": bool(s.floating), "contacts": len(s.grasp)})
+    return _json(out)
+
+
+def robot_detail(name):
+    return _json(scenario_of(name).to_dict())
+
+
+def robot_forces(name, body: M.RobotForceIn):
+    scenario = scenario_of(name)
+    if body.configuration is not None:
+        scenario = _library(scenario.with_configuration, np.array(body.configuration),
+                            rename={"q": "configuration"})
+    v = a = None
+    if body.motion is not None:
+        v = None if body.motion.v is None else np.array(body.motion.v)
+        a = None if body.motion.a is None else np.array(body.motion.a)
+        if v is None and a is None:
+            raise InputError(["body", "motion"], "motion: give v, a or both")
+    w = None if body.w_ext is None else np.array(body.w_ext)
+    res = _library(scenario.solve, body.norm, body.magnitude, body.method, body.eps, w, v, a,
+                   rename={"centroidal_wrench": "motion", "v": "motion.v", "a": "motion.a"})
+    return _json(res.to_dict())
+
+
+def robot_picture(name):
+    import os
+    import tempfile
+    with _plot_lock:
+        png = _pictures.get(name)
+        if png is None:
+            with tempfile.TemporaryDirectory() as folder:
+                path = os.path.join(folder, f"{name}.png")
+                scenario_of(name).plot(path)
+                with open(path, "rb") as f:
+                    png = _pictures[name] = f.read()
+    return Response(png, media_type="image/png")
+
+
+def robots_available():
+    """The shipped scenario names, or None without the robots' packages (pin,
+    example-robot-data)."""
+    try:
+        import graspforce.robots as robots
+        import pinocchio  # noqa: F401
+    except ImportError:
+        return None
+    return robots.list_scenarios()
+
+
 # -- the app --------------------------------------------------------------------------------------
 class BodyLimit:
     """Refuses a request body over `limit` bytes with 413, from its Content-Length before
@@ -236,6 +310,10 @@ def create_app(settings=None):
             M.ForceOptimizationIn.model_config["json_schema_extra"]["examples"][0])
         await asyncio.gather(*(asyncio.get_running_loop().run_in_executor(
             pool, solve_force_optimization, warm) for _ in range(settings.threads)))
+        # the scenarios are readable (the files; each is loaded on first use)
+        import graspforce.robots as robots
+        for name in scenarios or ():
+            robots.scenario_path(name).read_bytes()
         state["ready"] = True
         yield
         pool.shutdown(wait=False, cancel_futures=True)
@@ -283,6 +361,13 @@ def create_app(settings=None):
                                       f"{exc.detail}", "type": "json_invalid"}]}, 422)
         return JSONResponse({"detail": exc.detail}, exc.status_code,
                             headers=getattr(exc, "headers", None))
+
+    @app.exception_handler(ArithmeticError)
+    async def _arithmetic(request, exc):
+        # numbers the models allow but whose products overflow: bad input, not a crash
+        return _json({"detail": [{"loc": ["body"], "msg": f"numbers out of range for this "
+                                  f"problem ({exc}); rescale them", "type": "value_error"}]},
+                     422)
 
     @app.exception_handler(InputError)
     async def _input(request, exc):
@@ -337,6 +422,42 @@ def create_app(settings=None):
         """The growth distance of two posed 3-D shapes, the contact points and normal
         (gf.growth_distance)."""
         return await run(solve_growth_distance, body)
+
+    scenarios = robots_available()
+    if scenarios:
+        import enum
+        from fastapi import Path
+        # a name is one of the shipped scenarios, never a file path: anything else is a 422
+        Scenario = enum.Enum("Scenario", {n: n for n in scenarios}, type=str)
+        # {name:path} so that a name with slashes reaches the check instead of missing a route
+        NameParam = Path(description="a shipped scenario")
+
+        @app.get("/v1/robots", response_model=list[M.RobotSummary], dependencies=v1,
+                 responses=errors, tags=["robots"])
+        async def robots():
+            """The shipped scenarios (graspforce.robots.list_scenarios)."""
+            return await run(lambda _: robot_list(), None)
+
+        @app.get("/v1/robots/{name:path}/picture.png", dependencies=v1, tags=["robots"],
+                 response_class=Response, responses={
+                     **errors, 200: {"content": {"image/png": {}},
+                                     "description": "The scenario's plot (Scenario.plot)"}})
+        async def robot_png(name: Scenario = NameParam):
+            """The scenario's skeleton, contacts, friction cones and optimal forces."""
+            return await run(robot_picture, name.value)
+
+        @app.post("/v1/robots/{name:path}/force-optimization", dependencies=v1,
+                  response_model=M.RobotForcesOut, responses=errors, tags=["robots"])
+        async def robot_force_optimization(body: M.RobotForceIn, name: Scenario = NameParam):
+            """Minimal contact forces and joint torques for a scenario (Scenario.solve), at its
+            configuration or another, for its load, a given wrench or a motion sample."""
+            return await run(lambda b: robot_forces(name.value, b), body)
+
+        @app.get("/v1/robots/{name:path}", response_model=M.RobotOut, dependencies=v1,
+                 responses=errors, tags=["robots"])
+        async def robot(name: Scenario = NameParam):
+            """A scenario: robot, configuration, load and contacts (Scenario.to_dict)."""
+            return await run(robot_detail, name.value)
 
     # Swagger UI from the app's own copy of its files: /docs works without the internet
     import swagger_ui_bundle

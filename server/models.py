@@ -154,12 +154,21 @@ def check_set_size(s, name):
 # -- grasps --------------------------------------------------------------------------------------
 class ContactIn(Model):
     """A contact: position, inward normal (nonzero), friction mu >= 0 and torsional friction
-    mu_spin >= 0 in metres (0 when mu is 0); tangents (o, t) optional, unit, o x t = normal."""
+    mu_spin >= 0 in metres (0 when mu is 0), each 0 or at least 1e-9; tangents (o, t)
+    optional, unit, o x t = normal."""
     position: Vec3
     normal: Vec3
     mu: Friction
     mu_spin: Friction = 0.0
     tangents: Annotated[list[Vec3], Field(min_length=2, max_length=2)] | None = None
+
+    @field_validator("mu", "mu_spin")
+    @classmethod
+    def _zero_or_sane(cls, v, info):
+        # a coefficient of 1e-300 is a zero meant otherwise: (mu / mu_spin)^2 would overflow
+        if 0.0 < v < 1e-9:
+            raise ValueError(f"{info.field_name}: must be 0 or at least 1e-9, got {v!r}")
+        return v
 
     @field_validator("normal")
     @classmethod
@@ -458,3 +467,73 @@ class Ready(BaseModel):
 
 class ErrorOut(BaseModel):
     detail: str
+
+
+# -- robots ------------------------------------------------------------------------------------------
+Joints = Annotated[list[Coord], Field(min_length=1, max_length=256)]
+
+
+class MotionIn(Model):
+    """A motion sample at the scenario's configuration: joint velocities v and accelerations a
+    (nv each; a floating base only)."""
+    v: Joints | None = None
+    a: Joints | None = None
+
+
+class RobotForceIn(Model):
+    """Minimal contact forces for a shipped scenario (Scenario.solve): its own load, or w_ext
+    (a wrench about the reference point), or the load of a motion; optionally at another
+    configuration q (nq numbers; the contacts follow their frames)."""
+    model_config = ConfigDict(json_schema_extra={"examples": [{
+        "norm": "L1", "magnitude": "normal", "method": "zc-ie", "eps": 1e-9}]})
+    norm: Norm = "L1"
+    magnitude: Magnitude = "normal"
+    method: Method = "zc-ie"
+    eps: Eps = 1e-9
+    configuration: Joints | None = None
+    w_ext: Wrench | None = None
+    motion: MotionIn | None = None
+
+
+class RobotSummary(BaseModel):
+    name: str
+    description: str
+    robot: str
+    floating_base: bool
+    contacts: int
+
+
+class RobotContactOut(BaseModel):
+    name: str
+    kind: str
+    point: list[float]
+    normal: list[float]
+    mu: float
+    mu_spin: float
+
+
+class RobotOut(BaseModel):
+    """A scenario: robot, configuration, reference point, load and contacts (world frame)."""
+    name: str
+    description: str
+    robot: str
+    floating_base: bool
+    nq: int
+    nv: int
+    configuration: list[float]
+    reference: list[float]
+    external_wrench: list[float]
+    contacts: list[RobotContactOut]
+
+
+class RobotForcesOut(BaseModel):
+    """graspforce.robots.RobotForces: the MinForce record, world forces and their points, joint
+    torques, effort limits (null where none) and the joints over them."""
+    status: str
+    record: MinForceOut
+    forces: Matrix
+    points: Matrix
+    torques: list[float]
+    effort_limit: list[Num]
+    over_limit: list[bool]
+    exceeded: list[str]

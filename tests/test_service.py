@@ -198,6 +198,51 @@ def test_health_and_readiness(client):
     assert client.readyz()["status"] == "ready"
 
 
+# -- robots --------------------------------------------------------------------------------------------
+def _robots():
+    try:
+        import graspforce.robots as robots
+        import pinocchio  # noqa: F401
+    except ImportError:
+        pytest.skip("the robots' packages (pin, example-robot-data) are not installed")
+    return robots
+
+
+def test_robots_agree(client):
+    robots = _robots()
+    listed = client.robots()
+    assert [r["name"] for r in listed] == robots.list_scenarios()
+    for name in robots.list_scenarios():
+        local = robots.load_scenario(name)
+        assert_close(client.robot(name), local.to_dict())
+        remote = client.robot_forces(name)
+        expected = local.solve().to_dict()
+        assert isinstance(remote["record"], gf.MinForce)
+        assert_close({**remote, "record": remote["record"].to_dict()}, expected)
+
+
+def test_robot_configuration_wrench_and_motion_agree(client):
+    robots = _robots()
+    s = robots.load_scenario("talos_double_support")
+    q = s.q.copy()
+    q[2] -= 0.01                                   # the base 1 cm lower
+    w = s.external_wrench + np.array([5.0, 0, 0, 0, 0.5, 0])
+    for kwargs, local in (
+            ({"configuration": q}, lambda: s.with_configuration(q).solve()),
+            ({"w_ext": w, "norm": "Linf"}, lambda: s.solve(norm="Linf", w_ext=w)),
+            ({"a": np.full(s.model.nv, 0.05)}, lambda: s.solve(a=np.full(s.model.nv, 0.05)))):
+        s.grasp.reset_start_tables()
+        expected = local().to_dict()
+        remote = client.robot_forces("talos_double_support", **kwargs)
+        assert_close({**remote, "record": remote["record"].to_dict()}, expected)
+
+
+def test_robot_picture(client):
+    _robots()
+    png = client.robot_picture("panda_pinch_box")
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 10000
+
+
 # -- malformed requests ------------------------------------------------------------------------------
 EX = [{"position": [0.05, 0.01, 0.0], "normal": [-1, 0, 0], "mu": 0.5, "mu_spin": 0.01},
       {"position": [-0.05, 0.01, 0.0], "normal": [1, 0, 0], "mu": 0.5, "mu_spin": 0.01}]
@@ -245,6 +290,8 @@ MALFORMED = [
      ("contacts", 0, "mu"), "greater than or equal to 0"),
     ("negative spin friction", FORCE, {**FO, "contacts": contact(1, mu_spin=-1.0)}, 422,
      ("contacts", 1, "mu_spin"), "greater than or equal to 0"),
+    ("vanishing spin friction", FORCE, {**FO, "contacts": contact(mu_spin=1e-300)}, 422,
+     ("contacts", 0, "mu_spin"), "must be 0 or at least 1e-9"),
     ("zero normal", FORCE, {**FO, "contacts": contact(normal=[0, 0, 0])}, 422,
      ("contacts", 0, "normal"), "nonzero"),
     ("short position", FORCE, {**FO, "contacts": contact(position=[0, 0])}, 422,
@@ -303,6 +350,18 @@ MALFORMED = [
      422, ("a",), "interior point"),
     ("2-D shape for growth", GROWTH, {**GD, "b": {"type": "ball", "center": [0, 0],
                                                   "radius": 1}}, 422, ("b",), "3-D set"),
+    ("unknown scenario", "/v1/robots/atlas_backflip", None, 422, ("path", "name"),
+     "'talos_double_support'"),
+    ("a path as a scenario name", "/v1/robots/..%2F..%2Fetc%2Fpasswd/force-optimization", {},
+     422, ("path", "name"), "Input should be"),
+    ("a file as a scenario name", "/v1/robots/%2Ftmp%2Fx.toml", None, 422, ("path", "name"),
+     "Input should be"),
+    ("robot configuration of the wrong length", "/v1/robots/panda_pinch_box/force-optimization",
+     {"configuration": [0.0] * 3}, 422, ("configuration",), "must be 9 finite numbers"),
+    ("motion of a fixed base", "/v1/robots/panda_pinch_box/force-optimization",
+     {"motion": {"a": [0.1] * 9}}, 422, ("motion",), "floating-base"),
+    ("wrench and motion together", "/v1/robots/go1_uneven_terrain/force-optimization",
+     {"w_ext": [0] * 6, "motion": {"a": [0.0] * 18}}, 422, ("w_ext",), "not both"),
     ("improper pose", GROWTH, {**GD, "pose_b": {"rotation": [[2, 0, 0], [0, 1, 0], [0, 0, 1]],
                                                "translation": [3, 0, 0]}}, 422, ("pose_b",),
      "rotation must be proper"),
@@ -314,7 +373,11 @@ MALFORMED = [
 @pytest.mark.parametrize("name,path,body,status,loc,words", MALFORMED,
                          ids=[m[0] for m in MALFORMED])
 def test_malformed_request(served, name, path, body, status, loc, words):
-    if isinstance(body, bytes):
+    if path.startswith("/v1/robots"):
+        _robots()
+    if body is None:
+        r = httpx.get(served + path)
+    elif isinstance(body, bytes):
         r = httpx.post(served + path, content=body, headers={"content-type": "application/json"})
     else:
         r = httpx.post(served + path, json=body)
@@ -323,9 +386,10 @@ def test_malformed_request(served, name, path, body, status, loc, words):
     text = json.dumps(detail)
     assert words in text, text
     if loc is not None:
-        assert any(list(e["loc"]) == ["body", *loc] for e in detail), text
+        where = list(loc) if loc[:1] == ("path",) else ["body", *loc]
+        assert any(list(e["loc"]) == where for e in detail), text
         for e in detail:
-            assert e["msg"] and e["loc"][0] == "body"
+            assert e["msg"] and e["loc"][0] in ("body", "path")
 
 
 def test_malformed_table_is_large_enough():
