@@ -1,7 +1,9 @@
 """The `graspforce` command (also `python -m graspforce`).
 
     graspforce serve [--host 127.0.0.1] [--port 8000] [--workers 1]   the service (server/)
-    graspforce optimize PROBLEM.json [--check]    minimal contact forces of a problem file
+    graspforce optimize PROBLEM [--check]         minimal contact forces of a shipped scenario
+                                                  (graspforce robots) or a JSON problem file
+    graspforce robots                             the shipped robot scenarios
     graspforce warmup                             load the compiled core, one answer per method
     graspforce demo                               the four-finger demo
     graspforce bench [--count N]                  time min_force on the demo grasp
@@ -73,7 +75,35 @@ def _serve(args):
     return OK
 
 
+def _scenarios():
+    """The shipped scenario names, or None without the robots' packages."""
+    try:
+        from . import robots
+        import pinocchio  # noqa: F401
+    except ImportError:
+        return None
+    return robots.list_scenarios()
+
+
+def _robots(args):
+    names = _scenarios()
+    if names is None:
+        print('graspforce robots: the robots extra is not installed; pip install -e ".[robots]"',
+              file=sys.stderr)
+        return BAD_INPUT
+    from . import robots
+    for name in names:
+        s = robots.load_scenario(name)
+        print(f"{name:24s} {len(s.grasp):2d} contacts  {s.description}")
+    return OK
+
+
 def _optimize(args):
+    if args.problem in (_scenarios() or ()):
+        from . import robots
+        res = robots.load_scenario(args.problem).solve()
+        print(json.dumps(res.to_dict(), indent=None if args.compact else 2))
+        return INFEASIBLE if args.check and not res.record.feasible else OK
     try:
         text = sys.stdin.read() if args.problem == "-" else open(args.problem).read()
     except OSError as error:
@@ -131,13 +161,15 @@ def parser():
     s.add_argument("--workers", type=_positive, default=1, help="worker processes (default 1)")
     s.add_argument("--log-level", default="warning",
                    choices=["critical", "error", "warning", "info", "debug"])
-    o = sub.add_parser("optimize", help="minimal contact forces of a JSON problem file",
-                       description="Minimal contact forces of a problem: a JSON file ('-' for "
-                                   "stdin) holding the body of POST /v1/force-optimization. "
-                                   "Prints the MinForce record as JSON.")
-    o.add_argument("problem", help="JSON problem file, or - for stdin")
+    o = sub.add_parser("optimize", help="minimal contact forces of a scenario or a problem file",
+                       description="Minimal contact forces of a shipped scenario (a name from "
+                                   "`graspforce robots`: prints its RobotForces as JSON) or of "
+                                   "a JSON file ('-' for stdin) holding the body of POST "
+                                   "/v1/force-optimization (prints the MinForce record).")
+    o.add_argument("problem", help="scenario name, JSON problem file, or - for stdin")
     o.add_argument("--check", action="store_true", help="exit 1 if the wrench cannot be resisted")
     o.add_argument("--compact", action="store_true", help="one line of JSON")
+    sub.add_parser("robots", help="list the shipped robot scenarios")
     sub.add_parser("warmup", help="load the compiled core and answer one problem per method")
     sub.add_parser("demo", help="minimal contact forces for a four-finger grasp")
     b = sub.add_parser("bench", help="time min_force on the demo grasp")
@@ -176,6 +208,8 @@ def main(argv=None):
         return OK
     if args.command == "bench":
         return _bench(args)
+    if args.command == "robots":
+        return _robots(args)
     from . import demo
     demo.main()
     return OK

@@ -472,7 +472,7 @@ def test_cli_exit_codes(tmp_path, capsys):
     assert main(["optimize", str(tmp_path / "missing.json")]) == 2
     assert main(["serve", "--port", "70000"]) == 2
     assert main(["frobnicate"]) == 2
-    for command in ([], ["serve"], ["optimize"], ["warmup"], ["demo"], ["bench"]):
+    for command in ([], ["serve"], ["optimize"], ["robots"], ["warmup"], ["demo"], ["bench"]):
         assert main([*command, "--help"]) == 0
     capsys.readouterr()
 
@@ -487,6 +487,21 @@ def test_cli_agrees_with_library(tmp_path, capsys):
     assert_close(json.loads(capsys.readouterr().out),
                  grasp.min_force(FO["w_ext"], norm="Linf", magnitude="full",
                                  method="ie").to_dict())
+
+
+def test_cli_robots(capsys):
+    robots = _robots()
+    from graspforce.cli import main
+    assert main(["robots"]) == 0
+    listed = capsys.readouterr().out
+    assert all(name in listed for name in robots.list_scenarios())
+    assert main(["optimize", "talos_double_support", "--check", "--compact"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    expected = robots.load_scenario("talos_double_support").solve().to_dict()
+    assert_close(out, expected)
+    assert main(["optimize", "atlas_backflip"]) == 2
+    assert main(["robots", "--help"]) == 0
+    capsys.readouterr()
 
 
 def test_console_script_and_module():
