@@ -4,12 +4,12 @@ import math
 import numpy as np
 
 from ._core import BAD_WRENCH, HIT, MISS, ZERO_WRENCH, shoot_and_read_forces
-from ._start_table import start_table
-from ._validate import check_choice, finite_vector, is_vector
+from ._start_table import UNSEEN, start_table
+from ._validate import check_choice, finite_array, finite_vector, is_vector
 from .contact import Contact
 from .quality import facet_expansion, grasp_quality
 from .ray_shoot import METHODS, check_tolerances
-from .results import MinForce
+from .results import MinForce, MinForceBatch
 from .wrench_space import MAGNITUDES, NORMS, WrenchSpace, contact_set
 
 
@@ -108,6 +108,40 @@ class Grasp:
         return MinForce.from_packed("optimal" if status == HIT else "max_iter", sigma,
                                     1.0 / (t_scale * head[2]), norm, magnitude, method, ray,
                                     len(self.contacts))
+
+    def min_force_batch(self, wrenches, norm="L1", magnitude="normal", method="zc-ie", eps=1e-9,
+                        max_iter=10000, forces=False):
+        """min_force for each row of `wrenches` (k, 6): a MinForceBatch of sigma, sigma_lower,
+        status, feasible and iterations per wrench (and the (k, m, 4) local forces if `forces`),
+        with summary statistics. Each entry equals min_force(wrenches[i], ...)."""
+        W = finite_array(wrenches, "wrenches", ndim=2)
+        if W.shape[1] != 6:
+            raise ValueError(f"wrenches: expected shape (k, 6), got {W.shape}")
+        k, m = W.shape[0], len(self.contacts)
+        sigma, lower = np.empty(k), np.empty(k)
+        iterations = np.empty(k, np.int64)
+        feasible = np.empty(k, bool)
+        status = [None] * k
+        out = np.zeros((k, m, 4)) if forces else None
+        for i in range(k):
+            res = self.min_force(W[i], norm, magnitude, method, eps, max_iter)
+            sigma[i], lower[i], iterations[i] = res.sigma, res.sigma_lower, res.iterations
+            feasible[i], status[i] = res.feasible, res.status
+            if forces:
+                out[i] = res.forces
+        return MinForceBatch(sigma, lower, status, feasible, iterations, out, norm, magnitude,
+                             method)
+
+    def reset_start_tables(self):
+        """Return the grasp's wrench sets to their never-shot state: the next min_force (or
+        min_force_batch) answers exactly as a new Grasp of the same contacts would. A set's
+        start table, built at its second shot (docs/core-api.md, "Repeated shots"), changes
+        the path to an answer and so its last digits, within eps. The service calls this
+        before every answer from a cached grasp, so that an answer depends on its request
+        alone and equals the library's first call."""
+        for space in self._spaces.values():
+            for target in space._targets.values():
+                target.set._start_table = UNSEEN
 
     def _call(self, norm, magnitude, method):
         """What min_force needs of one (norm, magnitude, method), checked and gathered once: the

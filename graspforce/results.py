@@ -1,6 +1,7 @@
 """Result records. Each carries the bounds that certify it, so it can be checked without
 trusting the code that made it."""
-from dataclasses import dataclass, field
+import math
+from dataclasses import dataclass, field, fields
 from functools import cached_property
 
 import numpy as np
@@ -10,6 +11,33 @@ from ._forces import force_views
 from ._packed import unpack
 
 _STATUS = {HIT: "hit", MISS: "miss", LIMIT: "max_iter"}
+
+
+def _num(x):
+    """A float for JSON: None stands for an infinite value (JSON has no inf) or, in a
+    baseline's record, NaN (no certified bound)."""
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def _inf(x, sign=1.0):
+    """The float of a JSON number; None reads back as +inf (or -inf with sign -1)."""
+    return sign * math.inf if x is None else float(x)
+
+
+def _array(x, shape=None):
+    a = np.array(x, dtype=float)
+    return a.reshape(shape) if shape is not None else a
+
+
+def _witness_to_json(witness):
+    return [[j, local if isinstance(local, int) else np.asarray(local).tolist()]
+            for j, local in witness]
+
+
+def _witness_from_json(items):
+    return tuple((int(j), local if isinstance(local, int) else np.array(local, dtype=float))
+                 for j, local in items)
 
 
 class RayShot:
@@ -80,6 +108,43 @@ class RayShot:
     def witnesses(self):
         """One decoded witness per vertex: ((leaf_index, local), ...)."""
         return tuple(self.convex_set.decode_witness(w) for w in self.witness_rows)
+
+    def to_dict(self):
+        """The record as JSON-ready values (lists, numbers, None for an infinite number), what
+        the service sends; RayShot.from_dict reads it back."""
+        return {"hit": bool(self.hit), "status": self.status, "method": self.method,
+                "r": np.asarray(self.r, dtype=float).tolist(), "t": _num(self.t),
+                "t_upper": _num(self.t_upper), "point": self.point.tolist(),
+                "support_value": _num(self.support_value), "normal": self.normal.tolist(),
+                "vertices": self.vertices.tolist(), "weights": self.weights.tolist(),
+                "witnesses": [_witness_to_json(w) for w in self.witnesses],
+                "witness_rows": self.witness_rows.tolist(),
+                "iterations": int(self.iterations), "support_calls": int(self.support_calls),
+                "singular_steps": int(self.singular_steps)}
+
+    @classmethod
+    def from_dict(cls, d, convex_set=None):
+        """The record of `to_dict`'s output; `convex_set` (the set shot at) is kept if given."""
+        record = cls.__new__(cls)
+        record.convex_set = convex_set
+        record.r = _array(d["r"])
+        n = record.r.shape[0]
+        record.method, record.hit, record.status = d["method"], bool(d["hit"]), d["status"]
+        record.t, record.t_upper = _inf(d["t"]), _inf(d["t_upper"])
+        record.support_value = _inf(d["support_value"])
+        record.iterations, record.support_calls = int(d["iterations"]), int(d["support_calls"])
+        record.singular_steps = int(d["singular_steps"])
+        weights = _array(d["weights"])
+        record._k = k = weights.shape[0]
+        rows = _array(d["witness_rows"])
+        # cached properties read from the instance dict: the arrays are the sent ones
+        record.__dict__["_arrays"] = (_array(d["normal"]), weights,
+                                      _array(d["vertices"], (k, n)),
+                                      rows.reshape(k, rows.size // k if k else 0))
+        record.__dict__["witnesses"] = tuple(_witness_from_json(w) for w in d["witnesses"])
+        record.__dict__["point"] = _array(d["point"])
+        record._packed, record._extra = None, 0
+        return record
 
     def __repr__(self):
         return (f"RayShot(hit={self.hit}, status={self.status!r}, method={self.method!r}, "
@@ -216,6 +281,28 @@ class MinForce:
                 self._shot = RayShot.from_packed(W, r, self.method, head, packed, extra)
             return self._shot
 
+    def to_dict(self):
+        """The record as JSON-ready values (None for an infinite sigma), what the service
+        sends; MinForce.from_dict reads it back (without `shot`)."""
+        return {"feasible": bool(self.feasible), "status": self.status, "sigma": _num(self.sigma),
+                "sigma_lower": _num(self.sigma_lower), "norm": self.norm,
+                "magnitude": self.magnitude, "method": self.method,
+                "iterations": int(self.iterations), "support_calls": int(self.support_calls),
+                "forces": self.forces.tolist(), "world_forces": self.world_forces.tolist(),
+                "wrenches": self.wrenches.tolist(), "resultant": self.resultant.tolist()}
+
+    @classmethod
+    def from_dict(cls, d):
+        """The record of `to_dict`'s output; its `shot` is None."""
+        record = cls(feasible=bool(d["feasible"]), status=d["status"], sigma=_inf(d["sigma"]),
+                     sigma_lower=_inf(d["sigma_lower"]), forces=_array(d["forces"]),
+                     world_forces=_array(d["world_forces"]), wrenches=_array(d["wrenches"]),
+                     resultant=_array(d["resultant"]), norm=d["norm"], magnitude=d["magnitude"],
+                     method=d["method"], iterations=int(d["iterations"]),
+                     support_calls=int(d["support_calls"]))
+        record._shot = None
+        return record
+
     def __repr__(self):
         return (f"MinForce(feasible={self.feasible}, status={self.status!r}, "
                 f"sigma={self.sigma!r}, sigma_lower={self.sigma_lower!r}, norm={self.norm!r}, "
@@ -242,6 +329,20 @@ class GraspQuality:
     magnitude: str
     iterations: int
     support_calls: int
+
+    def to_dict(self):
+        """The record as JSON-ready values; GraspQuality.from_dict reads it back."""
+        d = {f.name: getattr(self, f.name) for f in fields(self)}
+        d.update(force_closure=bool(self.force_closure), value=float(self.value),
+                 lower=float(self.lower), upper=float(self.upper),
+                 direction=np.asarray(self.direction, dtype=float).tolist(),
+                 iterations=int(self.iterations), support_calls=int(self.support_calls))
+        return d
+
+    @classmethod
+    def from_dict(cls, d):
+        return cls(**{**{f.name: d[f.name] for f in fields(cls)},
+                      "direction": _array(d["direction"])})
 
 
 @dataclass
@@ -294,3 +395,80 @@ class GrowthDistanceResult:
     def normal(self):
         """Unit normal of the plane separating A(sigma) and B(sigma) at the contact, from A to B."""
         return self._contact[2]
+
+    def to_dict(self):
+        """The record as JSON-ready values (None for an infinite bound), with the contact;
+        GrowthDistanceResult.from_dict reads it back (without `shot`)."""
+        return {"sigma": _num(self.sigma), "sigma_lower": _num(self.sigma_lower),
+                "sigma_upper": _num(self.sigma_upper), "status": self.status,
+                "method": self.method, "iterations": int(self.iterations),
+                "support_calls": int(self.support_calls), "point_a": self.point_a.tolist(),
+                "point_b": self.point_b.tolist(), "normal": self.normal.tolist()}
+
+    @classmethod
+    def from_dict(cls, d):
+        record = cls(_inf(d["sigma"]), _inf(d["sigma_lower"]), _inf(d["sigma_upper"]),
+                     d["status"], d["method"], int(d["iterations"]), int(d["support_calls"]),
+                     None)
+        record.__dict__["_contact"] = (_array(d["point_a"]), _array(d["point_b"]),
+                                       _array(d["normal"]))
+        record.__dict__["shot"] = None
+        return record
+
+
+class MinForceBatch:
+    """min_force for one grasp and many wrenches (Grasp.min_force_batch): one entry per wrench,
+    in order. sigma, sigma_lower (k,) as MinForce's (inf where infeasible or undecided),
+    status (k,) strings, feasible (k,) bools, iterations (k,); forces (k, m, 4) local contact
+    forces, or None unless asked for. `summary` counts the statuses and describes sigma over
+    the feasible wrenches."""
+
+    def __init__(self, sigma, sigma_lower, status, feasible, iterations, forces, norm, magnitude,
+                 method, wrenches=None):
+        self.sigma, self.sigma_lower = np.asarray(sigma, float), np.asarray(sigma_lower, float)
+        self.status = tuple(status)
+        self.feasible = np.asarray(feasible, bool)
+        self.iterations = np.asarray(iterations, np.int64)
+        self.forces = forces
+        self.norm, self.magnitude, self.method = norm, magnitude, method
+        self.wrenches = wrenches
+
+    def __len__(self):
+        return len(self.status)
+
+    @property
+    def summary(self):
+        """{count, feasible, statuses: {status: count}, sigma_min, sigma_median, sigma_mean,
+        sigma_max (over the feasible wrenches; None if there are none), iterations_mean}."""
+        finite = self.sigma[self.feasible]
+        counts = {}
+        for s in self.status:
+            counts[s] = counts.get(s, 0) + 1
+        stat = (lambda f: float(f(finite))) if finite.size else (lambda f: None)
+        return {"count": len(self), "feasible": int(self.feasible.sum()),
+                "statuses": dict(sorted(counts.items())), "sigma_min": stat(np.min),
+                "sigma_median": stat(np.median), "sigma_mean": stat(np.mean),
+                "sigma_max": stat(np.max),
+                "iterations_mean": float(self.iterations.mean()) if len(self) else 0.0}
+
+    def to_dict(self):
+        """JSON-ready values (None for an infinite sigma); MinForceBatch.from_dict reads them."""
+        return {"norm": self.norm, "magnitude": self.magnitude, "method": self.method,
+                "sigma": [_num(x) for x in self.sigma.tolist()],
+                "sigma_lower": [_num(x) for x in self.sigma_lower.tolist()],
+                "status": list(self.status), "feasible": self.feasible.tolist(),
+                "iterations": self.iterations.tolist(),
+                "forces": None if self.forces is None else self.forces.tolist(),
+                "wrenches": None if self.wrenches is None else self.wrenches.tolist(),
+                "summary": self.summary}
+
+    @classmethod
+    def from_dict(cls, d):
+        return cls([_inf(x) for x in d["sigma"]], [_inf(x) for x in d["sigma_lower"]],
+                   d["status"], d["feasible"], d["iterations"],
+                   None if d.get("forces") is None else _array(d["forces"]), d["norm"],
+                   d["magnitude"], d["method"],
+                   None if d.get("wrenches") is None else _array(d["wrenches"]))
+
+    def __repr__(self):
+        return f"MinForceBatch({len(self)} wrenches, {self.summary['statuses']})"

@@ -233,3 +233,52 @@ def random_ellipsoid(rng, n, k=None, c_scale=0.3):
     S = U @ np.diag(s) @ W.T
     c = c_scale * rng.standard_normal(n)
     return c, S
+
+
+# -- the service: one real server for the session's service tests -------------------------------
+def _free_port():
+    import socket
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture(scope="session")
+def served():
+    """The base URL of a service started as `python -m graspforce serve` on a loopback port (the
+    command the Dockerfile runs), stopped after the session. Skipped without the service's
+    packages (the `service` or `test` extra)."""
+    pytest.importorskip("fastapi")
+    pytest.importorskip("uvicorn")
+    httpx = pytest.importorskip("httpx")
+    import subprocess
+    import time
+    port = _free_port()
+    env = {**os.environ, "GRASPFORCE_THREADS": "2"}
+    for name in ("GRASPFORCE_TOKEN", "GRASPFORCE_CORS_ORIGINS", "GRASPFORCE_MAX_BODY_BYTES",
+                 "GRASPFORCE_MAX_CONTACTS", "GRASPFORCE_MAX_BATCH", "GRASPFORCE_MAX_SET_LEAVES"):
+        env.pop(name, None)
+    proc = subprocess.Popen([sys.executable, "-m", "graspforce", "serve", "--port", str(port)],
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    url = f"http://127.0.0.1:{port}"
+    deadline = time.monotonic() + 60
+    try:
+        while True:
+            if proc.poll() is not None:
+                raise RuntimeError("the server exited: " + proc.stdout.read().decode())
+            try:
+                if httpx.get(url + "/readyz", timeout=1).status_code == 200:
+                    break
+            except httpx.TransportError:
+                pass
+            if time.monotonic() > deadline:
+                raise RuntimeError("the server was not ready within 60 s")
+            time.sleep(0.05)
+        yield url
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()

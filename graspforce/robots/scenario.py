@@ -68,6 +68,21 @@ class Scenario:
         axis, sign = FRAME_AXES[contact.normal]
         return sign * self.data.oMf[frame_id].rotation[:, axis]
 
+    def to_dict(self):
+        """The scenario as JSON-ready values: its robot, configuration q, reference point, load
+        and contacts (label, world point, normal, friction), what the service's
+        GET /v1/robots/{name} sends."""
+        return {"name": self.name, "description": self.description, "robot": self.spec.robot,
+                "floating_base": bool(self.floating), "nq": int(self.model.nq),
+                "nv": int(self.model.nv), "configuration": self.q.tolist(),
+                "reference": self.reference.tolist(),
+                "external_wrench": self.external_wrench.tolist(),
+                "contacts": [{"name": name, "kind": c.kind, "point": p.tolist(),
+                              "normal": n.tolist(), "mu": float(c.mu),
+                              "mu_spin": float(c.mu_spin)}
+                             for name, c, p, n in zip(self.contact_names, self.contact_specs,
+                                                      self.points, self.normals)]}
+
     def with_configuration(self, q):
         """The same scenario at configuration q (no IK: the contacts follow their frames)."""
         q = np.array(q, dtype=float)

@@ -62,6 +62,16 @@ class RobotForces:
     def status(self):
         return self.record.status
 
+    def to_dict(self):
+        """JSON-ready values: the MinForce record (MinForce.to_dict), world forces and points,
+        joint torques, effort limits (None where there is none) and the joints over them."""
+        limit = self.effort_limit
+        return {"status": self.status, "record": self.record.to_dict(),
+                "forces": self.forces.tolist(), "points": self.points.tolist(),
+                "torques": self.torques.tolist(),
+                "effort_limit": [float(x) if np.isfinite(x) else None for x in limit],
+                "over_limit": self.over_limit.tolist(), "exceeded": list(self.exceeded)}
+
     @property
     def forces(self):
         return self.record.world_forces
