@@ -108,10 +108,6 @@ def run_batch(args):
     wrenches, source = wrenches_of(args)
     if args.chunk_size < 1:
         raise ValueError(f"--chunk-size: must be a positive integer, got {args.chunk_size}")
-    if args.resume and not parts.exists() and out.exists() and summary_path.exists():
-        print(f"{out}: already complete", file=sys.stderr)
-        print(text(json.loads(summary_path.read_text())))
-        return 0
     manifest = {"grasp": str(args.grasp),
                 "grasp_digest": hashlib.sha256(grasp.contact_matrices.tobytes()).hexdigest(),
                 "wrenches": source,
@@ -120,6 +116,15 @@ def run_batch(args):
                 "norm": args.norm, "magnitude": args.magnitude, "method": args.method,
                 "eps": args.eps, "max_iter": args.max_iter, "forces": args.forces,
                 "format": fmt}
+    if args.resume and not parts.exists() and out.exists() and summary_path.exists():
+        done = json.loads(summary_path.read_text())
+        changed = sorted(k for k in manifest if done.get("manifest", {}).get(k) != manifest[k])
+        if changed:
+            raise ValueError(f"--resume: {out} is a finished run whose {', '.join(changed)} "
+                             "differ from this run's")
+        print(f"{out}: already complete", file=sys.stderr)
+        print(text(done))
+        return 0
     # the settings are checked (by a first row) before any file is written
     min_force(grasp, wrenches[:1], args.norm, args.magnitude, args.method, args.eps,
               args.max_iter, threads=args.threads)
@@ -145,6 +150,7 @@ def run_batch(args):
     summary = summarize(kept["sigma"], kept["status"], args.budget, wall_time=wall,
                         computed=computed)
     summary["out"] = str(out)
+    summary["manifest"] = manifest
     atomic_write(summary_path, lambda f: f.write(json.dumps(summary, indent=1).encode()))
     print(text(summary))
     return 0
