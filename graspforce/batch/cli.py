@@ -162,7 +162,7 @@ def _on_cluster(address, grasp, wrenches, bounds, todo, store, progress, setting
 
     from .distributed import _min_force_chunk
     with Client(address) as client:
-        g = client.scatter(grasp, broadcast=True)
+        g = client.scatter(grasp, broadcast=True, hash=False)
         futures = {client.submit(_min_force_chunk, g, wrenches[bounds[i][0]:bounds[i][1]],
                                  pure=False, **settings): i for i in todo}
         for future in as_completed(futures):

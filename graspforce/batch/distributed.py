@@ -4,7 +4,9 @@ A task answers its chunk with the local compiled loop on one thread; a worker ru
 tasks at once as it has threads (the loop releases the GIL), so its cores are used without
 oversubscribing them. Grasps and shapes travel by pickle: a Grasp drops its compiled caches
 (Grasp.__getstate__) and a worker rebuilds them, and the start table, on its first chunk; both
-are deterministic, so a worker's answers equal the local ones bit for bit.
+are deterministic, so a worker's answers equal the local ones bit for bit. Data is scattered
+with hash=False: content-hashed keys are shared by consecutive calls on the same grasp, and one
+call's release of its key can cancel the next call's tasks ("lost dependencies").
 """
 import math
 import threading
@@ -64,8 +66,8 @@ def min_force_on_cluster(client, grasp, wrenches, norm, magnitude, method, eps, 
     rows = wrench_rows(wrenches)
     bounds = chunk_bounds(rows.shape[0], _size(chunk_size))
     with _Cluster(client) as c:
-        g = c.scatter(grasp, broadcast=True)
-        parts = c.scatter([rows[a:b] for a, b in bounds])
+        g = c.scatter(grasp, broadcast=True, hash=False)
+        parts = c.scatter([rows[a:b] for a, b in bounds], hash=False)
         futures = c.map(_min_force_chunk, [g] * len(parts), parts, norm=norm,
                         magnitude=magnitude, method=method, eps=eps, max_iter=max_iter,
                         forces=forces, pure=False)
@@ -108,7 +110,7 @@ def growth_on_cluster(client, A, B, R_a, p_a, R_b, p_b, method, eps, max_iter, t
                       chunk_size):
     bounds = chunk_bounds(R_a.shape[0], _size(chunk_size))
     with _Cluster(client) as c:
-        a, b = c.scatter(A, broadcast=True), c.scatter(B, broadcast=True)
+        a, b = (c.scatter(X, broadcast=True, hash=False) for X in (A, B))
         futures = [c.submit(_growth_chunk, a, b, R_a[i:j], p_a[i:j], R_b[i:j], p_b[i:j], method,
                             eps, max_iter, touching_tol, pure=False) for i, j in bounds]
         return BatchGrowth.concatenate(c.gather(futures))
