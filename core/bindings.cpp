@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "python.hpp"
+#include "batch.hpp"
 #include "testing.hpp"
 #include "timing.hpp"
 
@@ -143,6 +144,52 @@ NB_MODULE(_core, m) {
         "One growth-distance query (section 4.1): (code, verdict, sigma, sigma_lower, "
         "sigma_upper, iterations, calls).");
 
+    m.def(
+        "min_force_rows",
+        [](In2 wrenches, gf::Int method, double eps, gf::Int max_iter, gf::Int packed_size,
+           In1 start, InI1 ints, In1 floats, In1 reader, double t_scale, F1 sigma,
+           F1 sigma_lower, I1 status, I1 iterations, F1 forces, gf::Int threads) {
+            const gf::Int N = wrenches.rows;
+            const gf::Int m = static_cast<gf::Int>(reader.data[3]);
+            if (wrenches.cols != 6) throw nb::value_error("wrenches: expected shape (N, 6)");
+            if (sigma.rows != N || sigma_lower.rows != N || status.rows != N ||
+                iterations.rows != N || (forces.rows != 0 && forces.rows != 4 * m * N))
+                throw nb::value_error("min_force_rows: an output array has the wrong length");
+            nb::gil_scoped_release nogil;
+            gf::min_force_rows(mat(wrenches), method, eps, max_iter, packed_size, vec(start),
+                               ivec(ints), vec(floats), vec(reader), t_scale, vec(sigma),
+                               vec(sigma_lower), ivec(status), ivec(iterations), vec(forces),
+                               threads);
+        },
+        "wrenches"_a.noconvert(), "method"_a, "eps"_a, "max_iter"_a, "packed_size"_a,
+        "start"_a.noconvert(), "ints"_a.noconvert(), "floats"_a.noconvert(),
+        "reader"_a.noconvert(), "t_scale"_a, "sigma"_a.noconvert(), "sigma_lower"_a.noconvert(),
+        "status"_a.noconvert(), "iterations"_a.noconvert(), "forces"_a.noconvert(), "threads"_a,
+        "min_force for every row of wrenches (N, 6) on `threads` threads (0: all cores); the "
+        "outputs are written in place (forces: empty, or (N, m, 4) flattened).");
+
+    m.def(
+        "growth_rows",
+        [](In2 R_a, In2 p_a, In2 R_b, In2 p_b, InI1 ints, In1 floats, gf::Int packed_size,
+           I1 code, I1 verdict, F1 sigma, F1 lower, F1 upper, I1 iterations, gf::Int threads) {
+            const gf::Int N = R_a.rows;
+            if (R_a.cols != 9 || R_b.cols != 9 || p_a.cols != 3 || p_b.cols != 3 ||
+                R_b.rows != N || p_a.rows != N || p_b.rows != N)
+                throw nb::value_error("poses: expected R (N, 9) and p (N, 3) for both objects");
+            if (code.rows != N || verdict.rows != N || sigma.rows != N || lower.rows != N ||
+                upper.rows != N || iterations.rows != N)
+                throw nb::value_error("growth_rows: an output array has the wrong length");
+            nb::gil_scoped_release nogil;
+            gf::growth_rows(mat(R_a), mat(p_a), mat(R_b), mat(p_b), ivec(ints), vec(floats),
+                            packed_size, ivec(code), ivec(verdict), vec(sigma), vec(lower),
+                            vec(upper), ivec(iterations), threads);
+        },
+        "R_a"_a.noconvert(), "p_a"_a.noconvert(), "R_b"_a.noconvert(), "p_b"_a.noconvert(),
+        "ints"_a.noconvert(), "floats"_a.noconvert(), "packed_size"_a, "code"_a.noconvert(),
+        "verdict"_a.noconvert(), "sigma"_a.noconvert(), "lower"_a.noconvert(),
+        "upper"_a.noconvert(), "iterations"_a.noconvert(), "threads"_a,
+        "growth_query for every row of the poses on `threads` threads (0: all cores).");
+
     m.def("capacity", &gf::capacity, "n"_a, "ws"_a,
           "Entries the arrays of a shot in R^n with witnesses of ws entries take when packed.");
     m.def("extra_size", &gf::forces::extra_size, "m"_a,
@@ -164,9 +211,12 @@ NB_MODULE(_core, m) {
     nb::module_ growth = m.def_submodule("growth", "The growth-distance query's codes and layout.");
     nb::module_ forces = m.def_submodule("forces", "The force reader's layout.");
     nb::module_ warm = m.def_submodule("warm", "The warm start's probe rounds.");
+    nb::module_ batch = m.def_submodule("batch", "A batch row's statuses.");
 #define GF_EXPORT_FROM(space, name) space.attr(#name) = gf::space::name
     GF_EXPORT_FROM(forces, READER_HEAD);
     GF_EXPORT_FROM(warm, WIDENINGS);
+    GF_EXPORT_FROM(batch, OPTIMAL); GF_EXPORT_FROM(batch, INFEASIBLE);
+    GF_EXPORT_FROM(batch, MAX_ITER); GF_EXPORT_FROM(batch, BAD_WRENCH);
     GF_EXPORT_FROM(growth, OK); GF_EXPORT_FROM(growth, BAD_POSE_A);
     GF_EXPORT_FROM(growth, BAD_POSE_B); GF_EXPORT_FROM(growth, COINCIDENT);
     GF_EXPORT_FROM(growth, SEPARATED); GF_EXPORT_FROM(growth, TOUCHING);

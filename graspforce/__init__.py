@@ -12,10 +12,11 @@ from .sets import (Ball, Box, Capsule, ConeCap, ConvexSet, Ellipsoid, Polytope, 
 
 
 def __getattr__(name):
-    # graspforce.robots needs Pinocchio, an optional extra: imported on first use only
-    if name == "robots":
+    # graspforce.robots needs Pinocchio, an optional extra, and graspforce.batch loads its
+    # helpers: both imported on first use only
+    if name in ("robots", "batch"):
         import importlib
-        return importlib.import_module(".robots", __name__)
+        return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module 'graspforce' has no attribute {name!r}")
 
 

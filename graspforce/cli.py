@@ -174,6 +174,10 @@ def parser():
     sub.add_parser("demo", help="minimal contact forces for a four-finger grasp")
     b = sub.add_parser("bench", help="time min_force on the demo grasp")
     b.add_argument("--count", type=_positive, default=2000, help="wrenches (default 2000)")
+    from .batch.cli import add_batch_parser
+    from .batch.plot import add_plot_parser
+    add_batch_parser(sub)
+    add_plot_parser(sub)
     return p
 
 
@@ -210,6 +214,12 @@ def main(argv=None):
         return _bench(args)
     if args.command == "robots":
         return _robots(args)
+    if args.command in ("batch", "plot"):
+        try:
+            return args.run(args)
+        except (ValueError, TypeError, ImportError) as e:
+            print(f"graspforce {args.command}: error: {e}", file=sys.stderr)
+            return BAD_INPUT
     from . import demo
     demo.main()
     return OK
