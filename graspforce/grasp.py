@@ -113,24 +113,16 @@ class Grasp:
                         max_iter=10000, forces=False):
         """min_force for each row of `wrenches` (k, 6): a MinForceBatch of sigma, sigma_lower,
         status, feasible and iterations per wrench (and the (k, m, 4) local forces if `forces`),
-        with summary statistics. Each entry equals min_force(wrenches[i], ...)."""
+        with summary statistics. The rows are one compiled parallel loop (gf.batch.min_force);
+        each entry equals min_force(wrenches[i], ...) on a grasp shot before (its start table
+        built)."""
+        from .batch.forces import min_force as min_force_rows
         W = finite_array(wrenches, "wrenches", ndim=2)
         if W.shape[1] != 6:
             raise ValueError(f"wrenches: expected shape (k, 6), got {W.shape}")
-        k, m = W.shape[0], len(self.contacts)
-        sigma, lower = np.empty(k), np.empty(k)
-        iterations = np.empty(k, np.int64)
-        feasible = np.empty(k, bool)
-        status = [None] * k
-        out = np.zeros((k, m, 4)) if forces else None
-        for i in range(k):
-            res = self.min_force(W[i], norm, magnitude, method, eps, max_iter)
-            sigma[i], lower[i], iterations[i] = res.sigma, res.sigma_lower, res.iterations
-            feasible[i], status[i] = res.feasible, res.status
-            if forces:
-                out[i] = res.forces
-        return MinForceBatch(sigma, lower, status, feasible, iterations, out, norm, magnitude,
-                             method)
+        res = min_force_rows(self, W, norm, magnitude, method, eps, max_iter, forces)
+        return MinForceBatch(res.sigma, res.sigma_lower, res.status_names.tolist(), res.feasible,
+                             res.iterations, res.forces, norm, magnitude, method)
 
     def reset_start_tables(self):
         """Return the grasp's wrench sets to their never-shot state: the next min_force (or
