@@ -29,7 +29,8 @@ class Grasp:
             if not isinstance(c, Contact):
                 raise TypeError(f"contacts: expected gf.Contact, got {type(c).__name__}")
         self.contacts = contacts
-        self.contact_matrices = np.array([c.matrix for c in contacts])   # (m, 6, 4): G_i
+        # (m, 6, 4): G_i, from the entries each contact computed when it was made
+        self.contact_matrices = np.array(sum((c._g for c in contacts), ())).reshape(-1, 6, 4)
         self._spaces = {}
         self._calls = {}
 

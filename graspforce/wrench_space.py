@@ -38,7 +38,8 @@ import numpy as np
 
 from ._core import capacity, extra_size
 from ._forces import force_reader
-from .sets import ConeCap, Ellipsoid, Polytope, affine, hull, minkowski_sum
+from ._kernel import children, param_start
+from .sets import ConeCap, Ellipsoid, Hull, MinkowskiSum, Polytope, affine, hull, minkowski_sum
 
 NORMS = ("L1", "Linf")
 MAGNITUDES = ("normal", "full")
@@ -134,6 +135,184 @@ class Target:
         return table, np.concatenate(blocks)
 
 
+def contact_parts(contacts, magnitude, lifted):
+    """(parts, maps): the root's children of a wrench space's shot set (W_i, or the lift's
+    summands) and the force maps of their leaves (Target)."""
+    lift = lift_rows(len(contacts)) if lifted else None
+    maps = {}
+    parts = []
+    for i, contact in enumerate(contacts):
+        W_i, base, local_map = contact_set(contact, magnitude)
+        for leaf in W_i.leaves():
+            maps[id(leaf)] = (i, base, local_map)
+        parts.append(lift_summand(W_i, lift[i]) if lifted else W_i)
+    return parts, maps
+
+
+def _root_children(contacts, magnitude, lifted, linf):
+    parts, maps = contact_parts(contacts, magnitude, lifted)
+    if linf and not lifted:
+        parts = [hull(Polytope(np.zeros((1, 6))), W_i) for W_i in parts]
+    return parts, maps
+
+
+def generic_target(contacts, norm, magnitude, contact_matrices, spin_weight, lifted):
+    """The Target of a wrench space built as a tree and compiled by the generic compiler
+    (graspforce.sets): the reference that the templates below reproduce."""
+    linf = norm == "Linf"
+    parts, maps = _root_children(contacts, magnitude, lifted, linf)
+    shot_set = minkowski_sum(*parts) if linf and not lifted else hull(*parts)
+    return Target(shot_set, maps, len(contacts) if lifted else 1, contact_matrices, linf,
+                  magnitude == "full", spin_weight)
+
+
+class _ContactsRoot:
+    """A shot set made by a template (below): its program is set when it is made, and the tree
+    of leaves (for witnesses, pickling, queries other than min_force) is built on first read,
+    by the same functions as the generic Target's."""
+
+    @property
+    def sets(self):
+        sets = self.__dict__.get("_sets")
+        if sets is None:
+            contacts, magnitude, lifted, linf = self._made_of
+            sets = self._sets = tuple(_root_children(contacts, magnitude, lifted, linf)[0])
+        return sets
+
+    def __repr__(self):
+        return f"{type(self).__mro__[2].__name__}(dim={self.dim})"
+
+
+class _ContactsHull(_ContactsRoot, Hull):
+    pass
+
+
+class _ContactsSum(_ContactsRoot, MinkowskiSum):
+    pass
+
+
+# a contact's entries in a grasp's coefficient vector (_Template.fill)
+_MU, _MU_SPIN, _D_INV, _SPIN_WEIGHT, _PER_CONTACT = 0, 1, 2, 3, 4
+
+
+class _Template:
+    """A wrench space's compiled Target for one structure (the contacts' kinds, the magnitude,
+    the root's shape): the program's ints, witness slots and the force reader's table do not
+    depend on the contacts' values, and their values sit at fixed offsets of the floats and the
+    reader. Made once per structure from a generic Target (so the ints are the generic
+    compiler's), then each new grasp of that structure gets its Target by a copy and a few
+    numpy gathers: ~4 us for four contacts against ~100-250 us for the tree and its compile."""
+
+    def __init__(self, target, kinds, magnitude, lifted, linf):
+        ints, floats = target.set.program
+        reader = target.compiled_args[2]
+        # copies taken before any shot: the kernel writes into ints (choice, active) and floats
+        # (scratch)
+        self.ints, self.floats, self.reader = ints.copy(), floats.copy(), reader.copy()
+        self.slots = list(target.set._witness_slots)
+        self.witness_size = target.set.witness_size
+        self.dim = target.set.dim
+        self.t_scale, self.extra, self.packed_size = (target.t_scale, target.extra,
+                                                      target.packed_size)
+        self.made_of = (magnitude, lifted, linf)
+        m = len(kinds)
+        self.unit = _PER_CONTACT * m          # the coefficient vector's last entry is 1.0
+        copy_dst, copy_src, prod_dst, prod_src, prod_coef, val_dst, val_src = ([] for _ in range(7))
+        leaves = reader[4]
+        table = reader[5:5 + 4 * int(leaves)].reshape(4, -1).astype(np.int64)
+        self.g_start = 5 + 4 * int(leaves)
+        self.spin_start = self.g_start + 24 * m
+        maps_start = self.spin_start + m
+        map_dst, map_src = [], []
+        for i, (part, kind) in enumerate(zip(children(ints, 0), kinds)):
+            # the contact's W_i: the root's child, or its child under a lift's embedding, or
+            # the second child of a sum's hull of the origin and W_i
+            node = part if not (lifted or linf) else children(ints, part)[-1]
+            p = param_start(ints, node)
+            axes = _axes(kind, magnitude)
+            g = 24 * i
+            if magnitude == "normal":
+                # [n, k, center (6), shape (6, k)]: center = G_i e_1, shape = G_i @ local_map
+                k = len(axes)
+                copy_dst += range(p + 2, p + 8)
+                copy_src += range(g, g + 24, 4)
+                for col, (row, coef) in enumerate(axes):
+                    prod_dst += range(p + 8 + col, p + 8 + 6 * k, k)
+                    prod_src += range(g + row, g + 24, 4)
+                    prod_coef += [_PER_CONTACT * i + coef] * 6
+            else:
+                # the affine node [6, k, M (6, k), t]: M = G_i @ local_map; its cap [k, mu]
+                k = len(axes)
+                for col, (row, coef) in enumerate(axes):
+                    prod_dst += range(p + 2 + col, p + 2 + 6 * k, k)
+                    prod_src += range(g + row, g + 24, 4)
+                    prod_coef += [self.unit if coef is None else _PER_CONTACT * i + coef] * 6
+                val_dst.append(param_start(ints, children(ints, node)[0]) + 1)
+                val_src.append(_PER_CONTACT * i + _MU)
+            # the reader's [base (4), local_map (4, k)] of this contact's leaf
+            j = int(np.flatnonzero(table[0] == i)[0])
+            block = maps_start + int(table[3, j]) + 4
+            for col, (row, coef) in enumerate(axes):
+                if magnitude == "normal" or coef is not None:
+                    map_dst.append(block + row * k + col)
+                    map_src.append(_PER_CONTACT * i + coef)
+        as_index = lambda values: np.array(values, np.int64)       # noqa: E731
+        self.copy_dst, self.copy_src = as_index(copy_dst), as_index(copy_src)
+        self.prod_dst, self.prod_src, self.prod_coef = (as_index(prod_dst), as_index(prod_src),
+                                                        as_index(prod_coef))
+        self.val_dst, self.val_src = as_index(val_dst + map_dst), as_index(val_src + map_src)
+        self.val_floats = len(val_dst)
+
+    def target(self, contacts, contact_matrices):
+        """The Target of these contacts (of this template's structure)."""
+        coefs = []
+        for c in contacts:
+            mu, mu_s = c.mu, c.mu_spin
+            # the same expressions as contact_set's D^{-1} and WrenchSpace's spin weight
+            coefs += (mu, mu_s, mu_s / mu if mu_s > 0.0 else 0.0,
+                      (mu / mu_s) ** 2 if mu_s > 0.0 else 0.0)
+        coefs.append(1.0)
+        coefs = np.array(coefs)
+        G = contact_matrices.reshape(-1)
+        floats = self.floats.copy()
+        floats[self.copy_dst] = G[self.copy_src]
+        # + 0.0: a matrix product's zero is +0, whatever the signs of its zero terms
+        floats[self.prod_dst] = G[self.prod_src] * coefs[self.prod_coef] + 0.0
+        values = coefs[self.val_src]
+        nv = self.val_floats
+        floats[self.val_dst[:nv]] = values[:nv]
+        reader = self.reader.copy()
+        reader[self.g_start:self.spin_start] = G
+        reader[self.spin_start:self.spin_start + len(contacts)] = coefs[_SPIN_WEIGHT:-1:_PER_CONTACT]
+        reader[self.val_dst[nv:]] = values[nv:]
+        magnitude, lifted, linf = self.made_of
+        root = (_ContactsSum if linf and not lifted else _ContactsHull).__new__(
+            _ContactsSum if linf and not lifted else _ContactsHull)
+        root.dim = self.dim
+        root._made_of = (contacts, magnitude, lifted, linf)
+        root._program = (self.ints.copy(), floats)
+        root._witness_slots = self.slots
+        root._witness_size = self.witness_size
+        target = Target.__new__(Target)
+        target.set = root
+        target.t_scale, target.extra, target.packed_size = (self.t_scale, self.extra,
+                                                            self.packed_size)
+        target.compiled_args = (root._program[0], floats, reader)
+        return target
+
+
+def _axes(kind, magnitude):
+    """[(row of G_i, coefficient)] of a contact's local_map columns (contact_set): kind 0
+    frictionless, 1 point, 2 soft; a coefficient None is 1."""
+    if magnitude == "normal":
+        return [(1, _MU), (2, _MU), (3, _MU_SPIN)][:(0, 2, 3)[kind]]
+    return [(0, None), (1, None), (2, None), (3, _D_INV)][:4 if kind == 2 else 3]
+
+
+_TEMPLATES = {}
+MAX_TEMPLATES = 256     # structures kept (a robot's contact sets, a service's grasp shapes)
+
+
 class WrenchSpace:
     """W (eq. 14) for a list of contacts; contact_matrices: the contacts' G_i, (m, 6, 4).
     `set` is W in R^6; `target(method)` the compiled set min_force shoots at with that method
@@ -144,12 +323,20 @@ class WrenchSpace:
         self.magnitude = magnitude
         self._contacts = contacts
         self._matrices = contact_matrices
-        # the weight of f_4^2 in ||f||^2 of eq. (15); point contacts have no f_4
-        self.spin_weight = np.array([(c.mu / c.mu_spin) ** 2 if c.mu_spin > 0.0 else 0.0
-                                     for c in contacts])
         self._targets = {}
         self._by_method = {}
-        self.set = self._target(False).set
+
+    @property
+    def spin_weight(self):
+        """The weight of f_4^2 in ||f||^2 of eq. (15), per contact; point contacts have no
+        f_4."""
+        return np.array([(c.mu / c.mu_spin) ** 2 if c.mu_spin > 0.0 else 0.0
+                         for c in self._contacts])
+
+    @property
+    def set(self):
+        """W in R^6 (built on first read: min_force on W_Linf's lift does not need it)."""
+        return self._target(False).set
 
     def target(self, method):
         """The Target that min_force shoots at with `method` (a name of gf.METHODS)."""
@@ -161,25 +348,22 @@ class WrenchSpace:
         return target
 
     def _target(self, lifted):
-        """The Target on W, or on W_Linf's lift; built once."""
+        """The Target on W, or on W_Linf's lift; built once, from its structure's template
+        (made by the generic compiler at the structure's first grasp)."""
         target = self._targets.get(lifted)
         if target is None:
-            m = len(self._contacts)
-            lift = lift_rows(m) if lifted else None
-            maps = {}
-            parts = []
-            for i, contact in enumerate(self._contacts):
-                W_i, base, local_map = contact_set(contact, self.magnitude)
-                for leaf in W_i.leaves():
-                    maps[id(leaf)] = (i, base, local_map)
-                parts.append(lift_summand(W_i, lift[i]) if lifted else W_i)
+            contacts = self._contacts
+            kinds = tuple((c.mu > 0.0) + (c.mu_spin > 0.0) for c in contacts)
             linf = self.norm == "Linf"
-            if linf and not lifted:
-                shot_set = minkowski_sum(*[hull(Polytope(np.zeros((1, 6))), W_i)
-                                           for W_i in parts])
+            key = (kinds, self.magnitude, lifted, linf)
+            template = _TEMPLATES.get(key)
+            if template is not None:
+                target = template.target(contacts, self._matrices)
             else:
-                shot_set = hull(*parts)
-            target = self._targets[lifted] = Target(
-                shot_set, maps, m if lifted else 1, self._matrices, linf,
-                self.magnitude == "full", self.spin_weight)
+                target = generic_target(contacts, self.norm, self.magnitude, self._matrices,
+                                        self.spin_weight, lifted)
+                if len(_TEMPLATES) >= MAX_TEMPLATES:
+                    _TEMPLATES.pop(next(iter(_TEMPLATES)), None)
+                _TEMPLATES[key] = _Template(target, kinds, self.magnitude, lifted, linf)
+            self._targets[lifted] = target
         return target
