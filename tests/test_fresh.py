@@ -95,7 +95,9 @@ def test_template_targets_equal_the_generic_compile(m, norm, magnitude):
     for seed in range(6):
         grasp = seeded_grasp(100 * m + seed, m)
         # the template comes from another grasp of the same kinds
-        same_kinds(grasp, seed + 1)._space(norm, magnitude).target("zc-ie")
+        seed_space = same_kinds(grasp, seed + 1)._space(norm, magnitude)
+        for method in ("zc-ie", "gjk"):
+            seed_space.target(method)
         for method in ("zc-ie", "gjk"):
             space = grasp._space(norm, magnitude)
             fast = space.target(method)
