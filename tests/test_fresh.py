@@ -135,3 +135,76 @@ def test_template_sets_pickle_and_read_as_trees():
     assert copy.support(u)[0] == W.support(u)[0]
     h, s, witness = W.support_witness(u)
     assert np.allclose(W.witness_point(witness), s, rtol=0, atol=1e-15)
+
+
+def random_primitive(rng, kind):
+    if kind == "ball":
+        return gf.Ball(rng.normal(0, 0.01, 3), rng.uniform(0.05, 0.2))
+    if kind == "ellipsoid":
+        Q = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+        return gf.Ellipsoid(rng.normal(0, 0.01, 3), Q @ np.diag(rng.uniform(0.05, 0.3, 3)))
+    if kind == "box":
+        return gf.Box(rng.uniform(0.05, 0.3, 3))
+    if kind == "cone":
+        return gf.TruncatedCone(rng.uniform(0.0, 0.2), rng.uniform(0.05, 0.2),
+                                rng.uniform(0.05, 0.4))
+    if kind == "polytope":
+        V = rng.normal(size=(8, 3)) * 0.1
+        return gf.Polytope(V - V.mean(axis=0))             # the centroid is interior
+    return gf.Capsule(rng.uniform(0.02, 0.1), rng.uniform(0.0, 0.3))
+
+
+KINDS = ("ball", "ellipsoid", "box", "cone", "polytope", "capsule")
+
+
+@pytest.mark.parametrize("kind_a", KINDS)
+@pytest.mark.parametrize("kind_b", KINDS)
+def test_delta_templates_equal_the_generic_compile(kind_a, kind_b):
+    from graspforce import growth as GR
+    rng = np.random.default_rng(KINDS.index(kind_a) * 10 + KINDS.index(kind_b))
+    GR._DELTA_TEMPLATES.clear()
+    for i in range(4):
+        A, B = random_primitive(rng, kind_a), random_primitive(rng, kind_b)
+        if i == 0:
+            GR._delta_program(A, B)          # the template, from another pair
+            continue
+        delta, ints, floats = GR._delta_program(A, B)
+        generic = gf.minkowski_sum(gf.affine(np.eye(3), A), gf.affine(-np.eye(3), B))
+        gi, gfl = generic.program
+        assert same_bits(ints, gi)
+        assert same_bits(floats[:len(gfl)], gfl)
+        assert list(delta._witness_slots) == list(generic._witness_slots)
+        assert delta.witness_size == generic.witness_size
+        ci, cf = _compile(delta)[0]                     # its tree, built when read
+        assert same_bits(ci, gi) and same_bits(cf, gfl)
+        solver = gf.GrowthDistance(A, B, warm_start=False)
+        assert same_bits(solver._floats[len(gfl):], np.concatenate((
+            [GR.param_start(gi, 1) + 2, GR.param_start(gi, GR.children(gi, 0)[1]) + 2,
+             generic.witness_size, solver._code, solver.max_iter, 0.0, solver.eps,
+             solver.touching_tol, 0.0, GR.WARM_SPREAD], np.zeros(3))))
+
+
+def test_closed_form_origin_verdicts_agree_with_facet_expansion():
+    from graspforce import growth as GR
+    from graspforce.quality import facet_expansion
+    rng = np.random.default_rng(2)
+    decided = 0
+    shift = lambda X, t: gf.affine(np.eye(3), X, t)       # noqa: E731
+    for i in range(300):
+        kind = KINDS[i % len(KINDS)]
+        X = random_primitive(rng, kind)
+        if kind in ("ball", "ellipsoid") and i % 3 == 0:
+            X = gf.Ellipsoid(rng.normal(0, 0.2, 3), X.shape)      # the origin anywhere
+        if i % 7 == 0:
+            X = gf.Ellipsoid(np.zeros(3), rng.normal(size=(3, 2)))     # flat
+        if i % 11 == 0:
+            Q = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+            Q *= np.sign(np.linalg.det(Q))
+            X = gf.affine(Q, X)
+        if i % 13 == 0:
+            X = shift(X, rng.normal(0, 0.3, 3))          # not closed form: left to expansion
+        verdict = GR._origin_verdict(X)
+        if verdict is not None:
+            decided += 1
+            assert verdict == facet_expansion(X, 0.0, GR.ORIGIN_TOL, 500, True)[0], X
+    assert decided > 150
