@@ -191,8 +191,24 @@ class _ContactsSum(_ContactsRoot, MinkowskiSum):
     pass
 
 
-# a contact's entries in a grasp's coefficient vector (_Template.fill)
+# a contact's entries in a grasp's values after the G_i (`grasp_values`)
 _MU, _MU_SPIN, _D_INV, _SPIN_WEIGHT, _PER_CONTACT = 0, 1, 2, 3, 4
+
+
+def grasp_values(contacts):
+    """One array of what a grasp's wrench sets are made of: the G_i (m x 24, row-major), then per
+    contact (mu, mu_s, mu_s / mu, (mu / mu_s)^2) (0 for the last two without spin), then 1.0. A
+    template (below) fills a program and its force reader from it by gathers."""
+    values = []
+    for c in contacts:
+        values += c._g
+    for c in contacts:
+        mu, mu_s = c.mu, c.mu_spin
+        # the same expressions as contact_set's D^{-1} and WrenchSpace's spin weight
+        values += (mu, mu_s, mu_s / mu if mu_s > 0.0 else 0.0,
+                   (mu / mu_s) ** 2 if mu_s > 0.0 else 0.0)
+    values.append(1.0)
+    return np.array(values)
 
 
 class _Template:
@@ -200,8 +216,9 @@ class _Template:
     the root's shape): the program's ints, witness slots and the force reader's table do not
     depend on the contacts' values, and their values sit at fixed offsets of the floats and the
     reader. Made once per structure from a generic Target (so the ints are the generic
-    compiler's), then each new grasp of that structure gets its Target by a copy and a few
-    numpy gathers: ~4 us for four contacts against ~100-250 us for the tree and its compile."""
+    compiler's); each new grasp of that structure gets its Target by two copies and two
+    gathers from its `grasp_values`: ~4 us for four contacts against ~100-250 us for the tree
+    and its compile."""
 
     def __init__(self, target, kinds, magnitude, lifted, linf):
         ints, floats = target.set.program
@@ -216,88 +233,80 @@ class _Template:
                                                       target.packed_size)
         self.made_of = (magnitude, lifted, linf)
         m = len(kinds)
-        self.unit = _PER_CONTACT * m          # the coefficient vector's last entry is 1.0
-        copy_dst, copy_src, prod_dst, prod_src, prod_coef, val_dst, val_src = ([] for _ in range(7))
-        leaves = reader[4]
-        table = reader[5:5 + 4 * int(leaves)].reshape(4, -1).astype(np.int64)
-        self.g_start = 5 + 4 * int(leaves)
-        self.spin_start = self.g_start + 24 * m
-        maps_start = self.spin_start + m
-        map_dst, map_src = [], []
+        coef = lambda i, which: 24 * m + _PER_CONTACT * i + which      # noqa: E731
+        unit = 24 * m + _PER_CONTACT * m
+        # floats[dst] = values[src] * values[scale] + add: add is -0.0 for a copied entry (x +
+        # -0.0 is x, zeros' signs included) and +0.0 for a matrix product's (whose zero is +0,
+        # whatever the signs of its zero terms)
+        dst, src, scale, add = [], [], [], []
+        leaves = int(reader[4])
+        table = reader[5:5 + 4 * leaves].reshape(4, -1).astype(np.int64)
+        g_start = 5 + 4 * leaves
+        maps_start = g_start + 25 * m
+        # the reader's G_i and spin weights, copied
+        read_dst = list(range(g_start, g_start + 24 * m)) + list(range(g_start + 24 * m,
+                                                                         maps_start))
+        read_src = list(range(24 * m)) + [coef(i, _SPIN_WEIGHT) for i in range(m)]
         for i, (part, kind) in enumerate(zip(children(ints, 0), kinds)):
             # the contact's W_i: the root's child, or its child under a lift's embedding, or
             # the second child of a sum's hull of the origin and W_i
             node = part if not (lifted or linf) else children(ints, part)[-1]
             p = param_start(ints, node)
             axes = _axes(kind, magnitude)
+            k = len(axes)
             g = 24 * i
             if magnitude == "normal":
                 # [n, k, center (6), shape (6, k)]: center = G_i e_1, shape = G_i @ local_map
-                k = len(axes)
-                copy_dst += range(p + 2, p + 8)
-                copy_src += range(g, g + 24, 4)
-                for col, (row, coef) in enumerate(axes):
-                    prod_dst += range(p + 8 + col, p + 8 + 6 * k, k)
-                    prod_src += range(g + row, g + 24, 4)
-                    prod_coef += [_PER_CONTACT * i + coef] * 6
+                dst += range(p + 2, p + 8)
+                src += range(g, g + 24, 4)
+                scale += [unit] * 6
+                add += [-0.0] * 6
+                shape = p + 8
             else:
                 # the affine node [6, k, M (6, k), t]: M = G_i @ local_map; its cap [k, mu]
-                k = len(axes)
-                for col, (row, coef) in enumerate(axes):
-                    prod_dst += range(p + 2 + col, p + 2 + 6 * k, k)
-                    prod_src += range(g + row, g + 24, 4)
-                    prod_coef += [self.unit if coef is None else _PER_CONTACT * i + coef] * 6
-                val_dst.append(param_start(ints, children(ints, node)[0]) + 1)
-                val_src.append(_PER_CONTACT * i + _MU)
+                dst.append(param_start(ints, children(ints, node)[0]) + 1)
+                src.append(coef(i, _MU))
+                scale.append(unit)
+                add.append(-0.0)
+                shape = p + 2
+            for col, (row, which) in enumerate(axes):
+                dst += range(shape + col, shape + 6 * k, k)
+                src += range(g + row, g + 24, 4)
+                scale += [unit if which is None else coef(i, which)] * 6
+                add += [0.0] * 6
             # the reader's [base (4), local_map (4, k)] of this contact's leaf
             j = int(np.flatnonzero(table[0] == i)[0])
             block = maps_start + int(table[3, j]) + 4
-            for col, (row, coef) in enumerate(axes):
-                if magnitude == "normal" or coef is not None:
-                    map_dst.append(block + row * k + col)
-                    map_src.append(_PER_CONTACT * i + coef)
+            for col, (row, which) in enumerate(axes):
+                if which is not None:
+                    read_dst.append(block + row * k + col)
+                    read_src.append(coef(i, which))
         as_index = lambda values: np.array(values, np.int64)       # noqa: E731
-        self.copy_dst, self.copy_src = as_index(copy_dst), as_index(copy_src)
-        self.prod_dst, self.prod_src, self.prod_coef = (as_index(prod_dst), as_index(prod_src),
-                                                        as_index(prod_coef))
-        self.val_dst, self.val_src = as_index(val_dst + map_dst), as_index(val_src + map_src)
-        self.val_floats = len(val_dst)
+        self.dst, self.src, self.scale = as_index(dst), as_index(src), as_index(scale)
+        self.add = np.array(add)
+        self.read_dst, self.read_src = as_index(read_dst), as_index(read_src)
 
-    def target(self, contacts, contact_matrices):
-        """The Target of these contacts (of this template's structure)."""
-        coefs = []
-        for c in contacts:
-            mu, mu_s = c.mu, c.mu_spin
-            # the same expressions as contact_set's D^{-1} and WrenchSpace's spin weight
-            coefs += (mu, mu_s, mu_s / mu if mu_s > 0.0 else 0.0,
-                      (mu / mu_s) ** 2 if mu_s > 0.0 else 0.0)
-        coefs.append(1.0)
-        coefs = np.array(coefs)
-        G = contact_matrices.reshape(-1)
+    def target(self, contacts, values):
+        """The Target of these contacts (of this template's structure), values their
+        `grasp_values`."""
         floats = self.floats.copy()
-        floats[self.copy_dst] = G[self.copy_src]
-        # + 0.0: a matrix product's zero is +0, whatever the signs of its zero terms
-        floats[self.prod_dst] = G[self.prod_src] * coefs[self.prod_coef] + 0.0
-        values = coefs[self.val_src]
-        nv = self.val_floats
-        floats[self.val_dst[:nv]] = values[:nv]
+        floats[self.dst] = values[self.src] * values[self.scale] + self.add
         reader = self.reader.copy()
-        reader[self.g_start:self.spin_start] = G
-        reader[self.spin_start:self.spin_start + len(contacts)] = coefs[_SPIN_WEIGHT:-1:_PER_CONTACT]
-        reader[self.val_dst[nv:]] = values[nv:]
+        reader[self.read_dst] = values[self.read_src]
         magnitude, lifted, linf = self.made_of
-        root = (_ContactsSum if linf and not lifted else _ContactsHull).__new__(
-            _ContactsSum if linf and not lifted else _ContactsHull)
+        cls = _ContactsSum if linf and not lifted else _ContactsHull
+        root = cls.__new__(cls)
         root.dim = self.dim
         root._made_of = (contacts, magnitude, lifted, linf)
-        root._program = (self.ints.copy(), floats)
+        ints = self.ints.copy()
+        root._program = (ints, floats)
         root._witness_slots = self.slots
         root._witness_size = self.witness_size
         target = Target.__new__(Target)
         target.set = root
         target.t_scale, target.extra, target.packed_size = (self.t_scale, self.extra,
                                                             self.packed_size)
-        target.compiled_args = (root._program[0], floats, reader)
+        target.compiled_args = (ints, floats, reader)
         return target
 
 
@@ -318,11 +327,12 @@ class WrenchSpace:
     `set` is W in R^6; `target(method)` the compiled set min_force shoots at with that method
     (W, or W_Linf's lift for LIFTED_METHODS), built on first use."""
 
-    def __init__(self, contacts, norm, magnitude, contact_matrices):
+    def __init__(self, contacts, norm, magnitude, contact_matrices, values=None):
         self.norm = norm
         self.magnitude = magnitude
         self._contacts = contacts
         self._matrices = contact_matrices
+        self._values = values
         self._targets = {}
         self._by_method = {}
 
@@ -358,7 +368,9 @@ class WrenchSpace:
             key = (kinds, self.magnitude, lifted, linf)
             template = _TEMPLATES.get(key)
             if template is not None:
-                target = template.target(contacts, self._matrices)
+                if self._values is None:
+                    self._values = grasp_values(contacts)
+                target = template.target(contacts, self._values)
             else:
                 target = generic_target(contacts, self.norm, self.magnitude, self._matrices,
                                         self.spin_weight, lifted)
