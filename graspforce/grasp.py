@@ -10,7 +10,7 @@ from .contact import Contact
 from .quality import facet_expansion, grasp_quality
 from .ray_shoot import METHODS, check_tolerances
 from .results import MinForce, MinForceBatch
-from .wrench_space import MAGNITUDES, NORMS, WrenchSpace, contact_set
+from .wrench_space import MAGNITUDES, NORMS, WrenchSpace, contact_set, grasp_values
 
 
 class Grasp:
@@ -29,7 +29,10 @@ class Grasp:
             if not isinstance(c, Contact):
                 raise TypeError(f"contacts: expected gf.Contact, got {type(c).__name__}")
         self.contacts = contacts
-        self.contact_matrices = np.array([c.matrix for c in contacts])   # (m, 6, 4): G_i
+        # what the wrench sets are made of, G_i first (graspforce.wrench_space.grasp_values):
+        # one array for all, from the entries each contact computed when it was made
+        self._values = grasp_values(contacts)
+        self.contact_matrices = self._values[:24 * len(contacts)].reshape(-1, 6, 4)   # G_i
         self._spaces = {}
         self._calls = {}
 
@@ -60,7 +63,7 @@ class Grasp:
         space = self._spaces.get(key)
         if space is None:
             space = self._spaces[key] = WrenchSpace(self.contacts, norm, magnitude,
-                                                    self.contact_matrices)
+                                                    self.contact_matrices, self._values)
             space.shoot = shoot_and_read_forces
         return space
 

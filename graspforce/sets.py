@@ -435,7 +435,8 @@ def _compile(root):
             slots.append((wpos, size))
             wpos += size
         else:
-            kind[i] = {Hull: K.HULL, MinkowskiSum: K.SUM, Affine: K.AFFINE}[type(node)]
+            kind[i] = (K.HULL if isinstance(node, Hull) else
+                       K.SUM if isinstance(node, MinkowskiSum) else K.AFFINE)
             if isinstance(node, Affine):
                 if _is_embedding(node.matrix):
                     kind[i] = K.EMBED

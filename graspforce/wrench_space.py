@@ -38,7 +38,8 @@ import numpy as np
 
 from ._core import capacity, extra_size
 from ._forces import force_reader
-from .sets import ConeCap, Ellipsoid, Polytope, affine, hull, minkowski_sum
+from ._kernel import children, param_start
+from .sets import ConeCap, Ellipsoid, Hull, MinkowskiSum, Polytope, affine, hull, minkowski_sum
 
 NORMS = ("L1", "Linf")
 MAGNITUDES = ("normal", "full")
@@ -134,22 +135,218 @@ class Target:
         return table, np.concatenate(blocks)
 
 
+def contact_parts(contacts, magnitude, lifted):
+    """(parts, maps): the root's children of a wrench space's shot set (W_i, or the lift's
+    summands) and the force maps of their leaves (Target)."""
+    lift = lift_rows(len(contacts)) if lifted else None
+    maps = {}
+    parts = []
+    for i, contact in enumerate(contacts):
+        W_i, base, local_map = contact_set(contact, magnitude)
+        for leaf in W_i.leaves():
+            maps[id(leaf)] = (i, base, local_map)
+        parts.append(lift_summand(W_i, lift[i]) if lifted else W_i)
+    return parts, maps
+
+
+def _root_children(contacts, magnitude, lifted, linf):
+    parts, maps = contact_parts(contacts, magnitude, lifted)
+    if linf and not lifted:
+        parts = [hull(Polytope(np.zeros((1, 6))), W_i) for W_i in parts]
+    return parts, maps
+
+
+def generic_target(contacts, norm, magnitude, contact_matrices, spin_weight, lifted):
+    """The Target of a wrench space built as a tree and compiled by the generic compiler
+    (graspforce.sets): the reference that the templates below reproduce."""
+    linf = norm == "Linf"
+    parts, maps = _root_children(contacts, magnitude, lifted, linf)
+    shot_set = minkowski_sum(*parts) if linf and not lifted else hull(*parts)
+    return Target(shot_set, maps, len(contacts) if lifted else 1, contact_matrices, linf,
+                  magnitude == "full", spin_weight)
+
+
+class _ContactsRoot:
+    """A shot set made by a template (below): its program is set when it is made, and the tree
+    of leaves (for witnesses, pickling, queries other than min_force) is built on first read,
+    by the same functions as the generic Target's."""
+
+    @property
+    def sets(self):
+        sets = self.__dict__.get("_sets")
+        if sets is None:
+            contacts, magnitude, lifted, linf = self._made_of
+            sets = self._sets = tuple(_root_children(contacts, magnitude, lifted, linf)[0])
+        return sets
+
+    def __repr__(self):
+        return f"{type(self).__mro__[2].__name__}(dim={self.dim})"
+
+
+class _ContactsHull(_ContactsRoot, Hull):
+    pass
+
+
+class _ContactsSum(_ContactsRoot, MinkowskiSum):
+    pass
+
+
+# a contact's entries in a grasp's values after the G_i (`grasp_values`)
+_MU, _MU_SPIN, _D_INV, _SPIN_WEIGHT, _PER_CONTACT = 0, 1, 2, 3, 4
+
+
+def grasp_values(contacts):
+    """One array of what a grasp's wrench sets are made of: the G_i (m x 24, row-major), then per
+    contact (mu, mu_s, mu_s / mu, (mu / mu_s)^2) (0 for the last two without spin), then 1.0. A
+    template (below) fills a program and its force reader from it by gathers."""
+    values = []
+    for c in contacts:
+        values += c._g
+    for c in contacts:
+        mu, mu_s = c.mu, c.mu_spin
+        # the same expressions as contact_set's D^{-1} and WrenchSpace's spin weight
+        values += (mu, mu_s, mu_s / mu if mu_s > 0.0 else 0.0,
+                   (mu / mu_s) ** 2 if mu_s > 0.0 else 0.0)
+    values.append(1.0)
+    return np.array(values)
+
+
+class _Template:
+    """A wrench space's compiled Target for one structure (the contacts' kinds, the magnitude,
+    the root's shape): the program's ints, witness slots and the force reader's table do not
+    depend on the contacts' values, and their values sit at fixed offsets of the floats and the
+    reader. Made once per structure from a generic Target (so the ints are the generic
+    compiler's); each new grasp of that structure gets its Target by two copies and two
+    gathers from its `grasp_values`: ~4 us for four contacts against ~100-250 us for the tree
+    and its compile."""
+
+    def __init__(self, target, kinds, magnitude, lifted, linf):
+        ints, floats = target.set.program
+        reader = target.compiled_args[2]
+        # copies taken before any shot: the kernel writes into ints (choice, active) and floats
+        # (scratch)
+        self.ints, self.floats, self.reader = ints.copy(), floats.copy(), reader.copy()
+        self.slots = list(target.set._witness_slots)
+        self.witness_size = target.set.witness_size
+        self.dim = target.set.dim
+        self.t_scale, self.extra, self.packed_size = (target.t_scale, target.extra,
+                                                      target.packed_size)
+        self.made_of = (magnitude, lifted, linf)
+        m = len(kinds)
+        coef = lambda i, which: 24 * m + _PER_CONTACT * i + which      # noqa: E731
+        unit = 24 * m + _PER_CONTACT * m
+        # floats[dst] = values[src] * values[scale] + add: add is -0.0 for a copied entry (x +
+        # -0.0 is x, zeros' signs included) and +0.0 for a matrix product's (whose zero is +0,
+        # whatever the signs of its zero terms)
+        dst, src, scale, add = [], [], [], []
+        leaves = int(reader[4])
+        table = reader[5:5 + 4 * leaves].reshape(4, -1).astype(np.int64)
+        g_start = 5 + 4 * leaves
+        maps_start = g_start + 25 * m
+        # the reader's G_i and spin weights, copied
+        read_dst = list(range(g_start, g_start + 24 * m)) + list(range(g_start + 24 * m,
+                                                                         maps_start))
+        read_src = list(range(24 * m)) + [coef(i, _SPIN_WEIGHT) for i in range(m)]
+        for i, (part, kind) in enumerate(zip(children(ints, 0), kinds)):
+            # the contact's W_i: the root's child, or its child under a lift's embedding, or
+            # the second child of a sum's hull of the origin and W_i
+            node = part if not (lifted or linf) else children(ints, part)[-1]
+            p = param_start(ints, node)
+            axes = _axes(kind, magnitude)
+            k = len(axes)
+            g = 24 * i
+            if magnitude == "normal":
+                # [n, k, center (6), shape (6, k)]: center = G_i e_1, shape = G_i @ local_map
+                dst += range(p + 2, p + 8)
+                src += range(g, g + 24, 4)
+                scale += [unit] * 6
+                add += [-0.0] * 6
+                shape = p + 8
+            else:
+                # the affine node [6, k, M (6, k), t]: M = G_i @ local_map; its cap [k, mu]
+                dst.append(param_start(ints, children(ints, node)[0]) + 1)
+                src.append(coef(i, _MU))
+                scale.append(unit)
+                add.append(-0.0)
+                shape = p + 2
+            for col, (row, which) in enumerate(axes):
+                dst += range(shape + col, shape + 6 * k, k)
+                src += range(g + row, g + 24, 4)
+                scale += [unit if which is None else coef(i, which)] * 6
+                add += [0.0] * 6
+            # the reader's [base (4), local_map (4, k)] of this contact's leaf
+            j = int(np.flatnonzero(table[0] == i)[0])
+            block = maps_start + int(table[3, j]) + 4
+            for col, (row, which) in enumerate(axes):
+                if which is not None:
+                    read_dst.append(block + row * k + col)
+                    read_src.append(coef(i, which))
+        as_index = lambda values: np.array(values, np.int64)       # noqa: E731
+        self.dst, self.src, self.scale = as_index(dst), as_index(src), as_index(scale)
+        self.add = np.array(add)
+        self.read_dst, self.read_src = as_index(read_dst), as_index(read_src)
+
+    def target(self, contacts, values):
+        """The Target of these contacts (of this template's structure), values their
+        `grasp_values`."""
+        floats = self.floats.copy()
+        floats[self.dst] = values[self.src] * values[self.scale] + self.add
+        reader = self.reader.copy()
+        reader[self.read_dst] = values[self.read_src]
+        magnitude, lifted, linf = self.made_of
+        cls = _ContactsSum if linf and not lifted else _ContactsHull
+        root = cls.__new__(cls)
+        root.dim = self.dim
+        root._made_of = (contacts, magnitude, lifted, linf)
+        ints = self.ints.copy()
+        root._program = (ints, floats)
+        root._witness_slots = self.slots
+        root._witness_size = self.witness_size
+        target = Target.__new__(Target)
+        target.set = root
+        target.t_scale, target.extra, target.packed_size = (self.t_scale, self.extra,
+                                                            self.packed_size)
+        target.compiled_args = (ints, floats, reader)
+        return target
+
+
+def _axes(kind, magnitude):
+    """[(row of G_i, coefficient)] of a contact's local_map columns (contact_set): kind 0
+    frictionless, 1 point, 2 soft; a coefficient None is 1."""
+    if magnitude == "normal":
+        return [(1, _MU), (2, _MU), (3, _MU_SPIN)][:(0, 2, 3)[kind]]
+    return [(0, None), (1, None), (2, None), (3, _D_INV)][:4 if kind == 2 else 3]
+
+
+_TEMPLATES = {}
+MAX_TEMPLATES = 256     # structures kept (a robot's contact sets, a service's grasp shapes)
+
+
 class WrenchSpace:
     """W (eq. 14) for a list of contacts; contact_matrices: the contacts' G_i, (m, 6, 4).
     `set` is W in R^6; `target(method)` the compiled set min_force shoots at with that method
     (W, or W_Linf's lift for LIFTED_METHODS), built on first use."""
 
-    def __init__(self, contacts, norm, magnitude, contact_matrices):
+    def __init__(self, contacts, norm, magnitude, contact_matrices, values=None):
         self.norm = norm
         self.magnitude = magnitude
         self._contacts = contacts
         self._matrices = contact_matrices
-        # the weight of f_4^2 in ||f||^2 of eq. (15); point contacts have no f_4
-        self.spin_weight = np.array([(c.mu / c.mu_spin) ** 2 if c.mu_spin > 0.0 else 0.0
-                                     for c in contacts])
+        self._values = values
         self._targets = {}
         self._by_method = {}
-        self.set = self._target(False).set
+
+    @property
+    def spin_weight(self):
+        """The weight of f_4^2 in ||f||^2 of eq. (15), per contact; point contacts have no
+        f_4."""
+        return np.array([(c.mu / c.mu_spin) ** 2 if c.mu_spin > 0.0 else 0.0
+                         for c in self._contacts])
+
+    @property
+    def set(self):
+        """W in R^6 (built on first read: min_force on W_Linf's lift does not need it)."""
+        return self._target(False).set
 
     def target(self, method):
         """The Target that min_force shoots at with `method` (a name of gf.METHODS)."""
@@ -161,25 +358,24 @@ class WrenchSpace:
         return target
 
     def _target(self, lifted):
-        """The Target on W, or on W_Linf's lift; built once."""
+        """The Target on W, or on W_Linf's lift; built once, from its structure's template
+        (made by the generic compiler at the structure's first grasp)."""
         target = self._targets.get(lifted)
         if target is None:
-            m = len(self._contacts)
-            lift = lift_rows(m) if lifted else None
-            maps = {}
-            parts = []
-            for i, contact in enumerate(self._contacts):
-                W_i, base, local_map = contact_set(contact, self.magnitude)
-                for leaf in W_i.leaves():
-                    maps[id(leaf)] = (i, base, local_map)
-                parts.append(lift_summand(W_i, lift[i]) if lifted else W_i)
+            contacts = self._contacts
+            kinds = tuple((c.mu > 0.0) + (c.mu_spin > 0.0) for c in contacts)
             linf = self.norm == "Linf"
-            if linf and not lifted:
-                shot_set = minkowski_sum(*[hull(Polytope(np.zeros((1, 6))), W_i)
-                                           for W_i in parts])
+            key = (kinds, self.magnitude, lifted, linf)
+            template = _TEMPLATES.get(key)
+            if template is not None:
+                if self._values is None:
+                    self._values = grasp_values(contacts)
+                target = template.target(contacts, self._values)
             else:
-                shot_set = hull(*parts)
-            target = self._targets[lifted] = Target(
-                shot_set, maps, m if lifted else 1, self._matrices, linf,
-                self.magnitude == "full", self.spin_weight)
+                target = generic_target(contacts, self.norm, self.magnitude, self._matrices,
+                                        self.spin_weight, lifted)
+                if len(_TEMPLATES) >= MAX_TEMPLATES:
+                    _TEMPLATES.pop(next(iter(_TEMPLATES)), None)
+                _TEMPLATES[key] = _Template(target, kinds, self.magnitude, lifted, linf)
+            self._targets[lifted] = target
         return target
