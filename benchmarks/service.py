@@ -14,8 +14,8 @@ started as `python -m graspforce serve` with one worker (the command the Dockerf
 - beside it, in the same run, the bare framework: a FastAPI app that validates the same
   pydantic body (server.models.ForceOptimizationIn) and returns {"ok": true} without solving,
   on the same uvicorn settings;
-- a batch of 10,000 wrenches (sampled as graspforce.wrenches.sample_wrenches(10000, 1, 3.0,
-  0.05, mean = weight)) sent as JSON by httpx and answered in full: median of 5 round trips,
+- a batch of 10,000 wrenches (drawn by graspforce.batch.wrenches.gaussian, seed 1: forces
+  N(0, 3 N), torques N(0, 0.05 N m) about the weight) sent as JSON by httpx and answered in full: median of 5 round trips,
   and the same with the service drawing them from a seed.
 Writes benchmarks/results/service.md.
 """
@@ -130,8 +130,8 @@ def wrk(url, connections, threads, duration, script):
 def batch_times(port, repeats=5):
     import numpy as np
 
-    from graspforce.wrenches import sample_wrenches
-    W = sample_wrenches(10000, 1, 3.0, 0.05, mean=[0, 0, -9.81, 0, 0, 0])
+    from graspforce.batch.wrenches import gaussian
+    W = gaussian(10000, [0, 0, -9.81, 0, 0, 0], [3.0] * 3 + [0.05] * 3, seed=1)
     given = {"contacts": CONTACTS, "wrenches": W.tolist()}
     drawn = {"contacts": CONTACTS, "sample": {"count": 10000, "seed": 1, "force_scale": 3.0,
                                               "torque_scale": 0.05,

@@ -129,9 +129,9 @@ def _bench(args):
 
     import graspforce as gf
     from .demo import box_grasp
-    from .wrenches import sample_wrenches
+    from .batch.wrenches import gaussian
     grasp = box_grasp()
-    W = sample_wrenches(args.count, 1, 3.0, 0.05, mean=[0, 0, -9.81, 0, 0, 0])
+    W = gaussian(args.count, [0, 0, -9.81, 0, 0, 0], [3.0] * 3 + [0.05] * 3, seed=1)
     print(f"min_force, 4 soft fingers, {args.count} wrenches; microseconds a call")
     print(f"{'method':14s} {'p50':>8s} {'p99':>8s} {'iterations':>10s}")
     for method in gf.METHODS:

@@ -74,8 +74,8 @@ class Client:
     def min_force_batch(self, grasp, wrenches=None, norm="L1", magnitude="normal",
                         method="zc-ie", eps=1e-9, max_iter=10000, forces=False, sample=None):
         """gf.MinForceBatch, as grasp.min_force_batch(wrenches, ...); or, with sample = dict
-        of graspforce.wrenches.sample_wrenches's arguments (count, seed, force_scale,
-        torque_scale, mean), for the wrenches the service draws (returned in .wrenches)."""
+        {count, seed, force_scale, torque_scale, mean}, for the wrenches the service draws by
+        graspforce.batch.wrenches.gaussian (returned in .wrenches)."""
         body = {**grasp_to_dict(grasp), "norm": norm, "magnitude": magnitude, "method": method,
                 "eps": eps, "max_iter": max_iter, "forces": bool(forces)}
         if sample is not None:

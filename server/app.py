@@ -27,7 +27,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 
 import graspforce as gf
 from graspforce.serialize import set_from_dict
-from graspforce.wrenches import sample_wrenches
+from graspforce.batch.wrenches import gaussian
 
 from . import models as M
 from . import settings as S
@@ -124,8 +124,8 @@ def solve_batch(body: M.BatchIn):
         W = np.array(body.wrenches)
     else:
         s = body.sample
-        W = _library(sample_wrenches, s.count, s.seed, s.force_scale, s.torque_scale, s.mean,
-                     prefix=("sample",))
+        W = _library(gaussian, s.count, 0.0 if s.mean is None else s.mean,
+                     [s.force_scale] * 3 + [s.torque_scale] * 3, s.seed, prefix=("sample",))
     start = time.perf_counter()
     res = grasp.min_force_batch(W, norm=body.norm, magnitude=body.magnitude,
                                 method=body.method, eps=body.eps, max_iter=body.max_iter,

@@ -215,7 +215,7 @@ class ForceOptimizationIn(Model):
 
 class SampleIn(Model):
     """count wrenches: mean + normal noise of force_scale (forces) and torque_scale (torques)
-    from seed (graspforce.wrenches.sample_wrenches)."""
+    from seed (graspforce.batch.wrenches.gaussian)."""
     count: Annotated[int, Field(ge=1)]
     seed: Annotated[int, Field(ge=0, le=2**63 - 1)] = 0
     force_scale: Annotated[float, Field(ge=0.0, le=WRENCH)] = 1.0

@@ -49,10 +49,14 @@ def ellipsoid(n, center, shape, seed=0):
 
 
 def gaussian(n, mean=0.0, std=1.0, seed=0):
-    """n wrenches with independent normal components: mean and std one or six numbers."""
+    """n wrenches with independent normal components: mean and std one or six numbers (a zero
+    std keeps that component at its mean)."""
     n = positive_int(n, "n")
     m = np.broadcast_to(finite_array(mean, "mean"), (6,))
-    s = _scale(std)
+    s = finite_array(std, "std", minimum=0.0)
+    s = np.broadcast_to(s, (6,)) if s.ndim == 0 else s
+    if s.shape != (6,):
+        raise ValueError(f"std: must be a number or 6 numbers, got shape {s.shape}")
     return m + _rng(seed).normal(size=(n, 6)) * s
 
 
