@@ -34,6 +34,8 @@ Int solve_basic(Mat M, Int n, Mat lu, IVec prow, IVec pcol, Vec b, Vec x, double
 void basic_null_space(Mat lu, IVec pcol, Int n, Int rank, Mat Z, Vec w);
 
 // ---- corral.hpp -------------------------------------------------------------------------
+constexpr double FACET_HOLDS = 1e-12;   // on_point: an IE step's facet weights, Fig. 3b's rule
+constexpr double POINT_HOLDS = 1e-9;    // on_point: ZC's and Bi-GJK's final point, any hit
 inline void set_row(Mat P, Mat Wt, Int j, Vec point, Vec wit) {
     for (Int i = 0; i < P.cols; ++i) P(j, i) = point[i];
     for (Int i = 0; i < Wt.cols; ++i) Wt(j, i) = wit[i];
@@ -57,6 +59,7 @@ inline std::pair<double, double> residual2(Mat P, Vec x, Int k, Vec b) {
     }
     return {res, bn};
 }
+bool on_point(Mat P, Vec x, Int k, Vec b, double tol);
 bool reproduce(Mat P, Vec x, Int k, Vec b);
 double weights_on_ray(Mat S, Int m, Vec r, Vec x, Mat D, Mat work, Vec wrhs, Vec rhs);
 inline void combine(Mat P, Vec lam, Int k, Vec out) {
@@ -143,8 +146,24 @@ struct Shot {
     Int singular = 0;
     Int k() const { return V.rows; }
 };
-// a hit's t_upper, below t by at most FACE_ROUNDING (relative), is t
-double reported_upper(Int status, double t, double t_up);
+// A bound t_upper = h / n^T r below the t of points P[:k] by at most this much (relative) is
+// rounding: FACE_ROUNDING, or where h is far smaller than the points (a normal nearly orthogonal
+// to them and to r), the rounding of h, ~64 ulps of their size, relative to h; never more than
+// FACE_ROUNDING_MAX.
+constexpr double FACE_ROUNDING = 1e-12;
+constexpr double FACE_ROUNDING_MAX = 1e-10;
+inline double face_rounding(Mat P, Int k, double h) {
+    double vmax = 0.0;
+    for (Int j = 0; j < k; ++j) {
+        double pp = 0.0;
+        for (Int i = 0; i < P.cols; ++i) pp += P(j, i) * P(j, i);
+        vmax = std::max(vmax, pp);
+    }
+    const double rho = 64.0 * 2.220446049250313e-16 * std::sqrt(vmax) / std::abs(h);
+    return std::min(std::max(FACE_ROUNDING, rho), FACE_ROUNDING_MAX);
+}
+// a hit's t_upper, below t by at most rho (relative: face_rounding), is t
+double reported_upper(Int status, double t, double t_up, double rho);
 // Python's _result: copies normal, P[:k], lam[:k], Wt[:k]; t_up through reported_upper
 Shot make_result(Int status, double t, double t_up, double h_n, Int iters, Int calls,
                  Vec normal, Mat P, Vec lam, Mat Wt, Int k, Int singular);
@@ -153,8 +172,8 @@ Shot make_result(Int status, double t, double t_up, double h_n, Int iters, Int c
 Int keep(Mat P, Mat Wt, Vec lam, Int k, Mat Pz, Mat Wz, Vec lz, Int changed = -1);
 // Python's _holds: whether lam[:k] of P[:k] reproduce t r (written to b) to tol relative
 bool holds(Mat P, Vec lam, Int k, double t, Vec r, Vec b, double tol);
-constexpr double FACET_HOLDS = 1e-12;   // holds: an IE step's facet weights
-constexpr double POINT_HOLDS = 1e-9;    // holds: ZC's and Bi-GJK's final point
+// A hit only with its certificate: t r in A to POINT_HOLDS relative and t_upper within eps
+Shot certify(Shot out, Vec r, double eps);
 
 // ---- zc_family.hpp ----------------------------------------------------------------------
 // Pz, Wz, lz: the caller's, at least n + 2 rows (written to). inverse: (n, n) or 0 rows.

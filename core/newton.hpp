@@ -406,7 +406,7 @@ NewtonOut newton_finish(IVec ints, Vec f, Vec r, double eps, Mat P, Mat Wt, Vec 
             const double h_full = support(ints, f, nrm, point, wit);
             calls += 1;
             const double t_up = h_full / dot(nrm, r);
-            if (t_up - tz <= eps * tz && t_up >= tz * (1.0 - 1e-12))
+            if (t_up - tz <= eps * tz && t_up >= tz * (1.0 - face_rounding(Sm, m, h_full)))
                 return {true, tz, std::max(t_up, tz), h_full, m, steps, calls, std::move(nrmA),
                         std::move(S), std::move(lmA), std::move(WS)};
             // a piece the system did not hold sticks out at u: it joins with weight 0

@@ -101,7 +101,8 @@ class Target:
     (= m) times W_Linf's. maps: id(leaf) -> (contact, base, map) for the leaves of the
     contacts' sets (the others are origins: no force)."""
 
-    def __init__(self, shot_set, maps, t_scale, contact_matrices, linf, full, spin_weight):
+    def __init__(self, shot_set, maps, t_scale, contact_matrices, linf, full, spin_weight,
+                 friction):
         self.set = shot_set
         self.t_scale = t_scale
         table, forces_map = self._table(maps)
@@ -114,7 +115,7 @@ class Target:
         ints, floats = self.set.program
         self.compiled_args = (ints, floats, force_reader(self.set.witness_size, linf, full,
                                                          contact_matrices, table, forces_map,
-                                                         spin_weight))
+                                                         spin_weight, friction))
 
     def _table(self, maps):
         """(table (4, leaves), maps): per leaf its contact (-1 for an origin), the start of its
@@ -147,6 +148,7 @@ class WrenchSpace:
         # the weight of f_4^2 in ||f||^2 of eq. (15); point contacts have no f_4
         self.spin_weight = np.array([(c.mu / c.mu_spin) ** 2 if c.mu_spin > 0.0 else 0.0
                                      for c in contacts])
+        self.friction = np.array([(c.mu, c.mu_spin) for c in contacts], dtype=float)
         self._targets = {}
         self._by_method = {}
         self.set = self._target(False).set
@@ -181,5 +183,5 @@ class WrenchSpace:
                 shot_set = hull(*parts)
             target = self._targets[lifted] = Target(
                 shot_set, maps, m if lifted else 1, self._matrices, linf,
-                self.magnitude == "full", self.spin_weight)
+                self.magnitude == "full", self.spin_weight, self.friction)
         return target
