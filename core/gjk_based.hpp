@@ -197,6 +197,20 @@ inline Shot walk(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter,
         if (g.status == MAX_ITER)
             return make_result(LIMIT, t_lo, t_up, best_h, it + 1, calls, best_n, Pz, lz, Wz, kz,
                                0);
+        if (g.status == STALLED && eps_gjk <= eps) {
+            // GJK's simplex lost rank at the exit (a corner of A, whose normals form a cone of
+            // more than one ray): Newton on its pieces, from the best normal so far
+            for (Int c = 0; c < 2; ++c) {
+                NewtonOut fin =
+                    newton_finish(ints, floats, r, eps, P, Wt, lam, k, best_n, t, c == 1);
+                calls += fin.calls;
+                it += fin.steps;   // each Newton step counts as an iteration, as in zc_from
+                if (fin.ok)
+                    return make_result(HIT, fin.t, fin.t_up, fin.h, it + 1, calls,
+                                       fin.normal.vec(), fin.V.mat(), fin.weights.vec(),
+                                       fin.W.mat(), fin.m, 0);
+            }
+        }
         const double rn = dot(r, nvec);
         const bool exact = eps_gjk <= eps;
         if (!exact && (rn <= 0.0 || h >= t * rn)) {
