@@ -162,6 +162,20 @@ inline double face_rounding(Mat P, Int k, double h) {
     const double rho = 64.0 * 2.220446049250313e-16 * std::sqrt(vmax) / std::abs(h);
     return std::min(std::max(FACE_ROUNDING, rho), FACE_ROUNDING_MAX);
 }
+// A stalled ZC's h_A(n) >= 0 at the origin is a miss certificate (h_A(n) <= 0 < n^T r) only
+// while it is rounding: at most MISS_ROUNDING of the size of its points P[:k] (the rounding a
+// stalled cone's normal keeps, ~100 ulps of sums of a few support values).
+constexpr double MISS_ROUNDING = 1e-11;
+inline bool miss_to_rounding(double h, Mat P, Int k) {
+    if (h <= 0.0) return true;
+    double vmax = 0.0;
+    for (Int j = 0; j < k; ++j) {
+        double pp = 0.0;
+        for (Int i = 0; i < P.cols; ++i) pp += P(j, i) * P(j, i);
+        vmax = std::max(vmax, pp);
+    }
+    return h <= MISS_ROUNDING * std::sqrt(vmax);
+}
 // a hit's t_upper, below t by at most rho (relative: face_rounding), is t
 double reported_upper(Int status, double t, double t_up, double rho);
 // Python's _result: copies normal, P[:k], lam[:k], Wt[:k]; t_up through reported_upper

@@ -79,23 +79,25 @@ inline Shot finish_inside(IVec ints, Vec floats, Vec r, Int ws, double eps, Int 
                    Mat{}, Mat{});
 }
 
-// The paper's miss test (section 3.1) turned into the contract's certificate: the hyperplane
-// {n^T x = h}, h = h_A(n), crosses the ray at t' = h / n^T r below t_f = -h_A(-r) / r^T r, under
-// which A has no point of the ray. By subadditivity h_A(n / n^T r - r / r^T r) <= t' - t_f < 0,
-// and adding delta r, delta = (t_f - t') / (2 h_A(r)), keeps it negative while its product with
-// r turns positive: a direction m with h_A(m) < 0 < m^T r. It is checked by a support call
-// (into `point`, counted in `calls`); false when rounding defeats it.
-inline bool floor_miss(IVec ints, Vec floats, Vec r, Vec n, double h, double t_f, double h_r,
-                       Vec m, Vec point, Vec wit, double& h_m, Int& calls) {
-    const double rr = dot(r, r);
-    const double nr = dot(n, r);
-    const double gap = t_f - h / nr;
-    if (!(nr > 0.0 && gap > 0.0 && h_r > 0.0)) return false;
+// The paper's miss tests (section 3.1) turned into the contract's certificate. The hyperplane
+// {a^T x = h_a}, h_a = h_A(a), a^T r > 0, bounds any point t r of A from above, t <= t_u =
+// h_a / a^T r; one with b^T r < 0 bounds it from below, t >= t_l = h_b / b^T r (the paper's
+// floor: b = -r, or a converged GJK direction that points away from r). Where t_l > t_u the ray
+// misses A: by subadditivity h_A(a / a^T r + b / |b^T r|) <= t_u - t_l < 0, while the product
+// of that direction with r is 0; adding delta r, delta = (t_l - t_u) / (2 h_A(r)), keeps its
+// support negative and turns the product positive: m with h_A(m) < 0 < m^T r. It is checked by
+// a support call (into `point`, counted in `calls`); false when rounding defeats it.
+inline bool crossing_miss(IVec ints, Vec floats, Vec r, Vec a, double h_a, Vec b, double h_b,
+                          double h_r, Vec m, Vec point, Vec wit, double& h_m, Int& calls) {
+    const double ar = dot(a, r), br = dot(b, r);
+    if (!(ar > 0.0 && br < 0.0)) return false;
+    const double gap = h_b / br - h_a / ar;
+    if (!(gap > 0.0)) return false;
     calls += 1;
-    const double delta = 0.5 * gap / h_r;
+    const double delta = h_r > 0.0 ? 0.5 * gap / h_r : 1.0 / dot(r, r);
     double mm = 0.0;
     for (Int i = 0; i < r.n; ++i) {
-        m[i] = n[i] / nr - r[i] / rr + delta * r[i];
+        m[i] = a[i] / ar - b[i] / br + delta * r[i];
         mm += m[i] * m[i];
     }
     const double inv = 1.0 / std::sqrt(mm);
@@ -131,9 +133,12 @@ inline Shot walk(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter,
     Work w(n, ws);
     const Vec nvec = w.nvec, point = w.point, wit = w.wit, x = w.x;
     const Scratch& sc = w.scratch.sc;
-    Array vecs(2 * n);   // best_n, b
+    Array vecs(3 * n);   // best_n, b, low_n
     const Vec best_n = vecs.vec().segment(0, n);
     const Vec b = vecs.vec().segment(n, n);
+    // the best hyperplane that bounds the ray's points of A from below (low_n^T r < 0): the
+    // paper's floor, -r, at first
+    const Vec low_n = vecs.vec().segment(2 * n, n);
     const double h0 = support(ints, floats, r, point, wit);
     calls += 1;
     double t = h0 / rr;
@@ -141,14 +146,16 @@ inline Shot walk(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter,
     const double rnorm = std::sqrt(rr);
     for (Int i = 0; i < n; ++i) best_n[i] = r[i] / rnorm;
     double best_h = h0 / rnorm;
+    for (Int i = 0; i < n; ++i) low_n[i] = -r[i] / rnorm;
+    double low_h = -t_lo * rnorm;
     // the walk reached its floor: the bracket [t_lo, t_up] closes on the certified point, or is
     // finished from it by zc_from, which certifies its own answer; with no point of A, below
     // the paper's floor the ray misses A
     auto at_floor = [&](Int iters) {
         if (kz == 0) {
             double h_m = 0.0;
-            if (floor_miss(ints, floats, r, best_n, best_h, t_lo, h0, nvec, point, wit, h_m,
-                           calls))
+            if (crossing_miss(ints, floats, r, best_n, best_h, low_n, low_h, h0, nvec, point,
+                              wit, h_m, calls))
                 return make_result(MISS, 0.0, 0.0, h_m, iters, calls, nvec, Pz, lz, Wz, 0, 0);
             return make_result(LIMIT, 0.0, t_up, best_h, iters, calls, best_n, Pz, lz, Wz, 0, 0);
         }
@@ -224,7 +231,13 @@ inline Shot walk(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter,
         // miss (n^T r <= 0 while d_A(b) > 0), certified by ZC from the origin
         if (rn <= 0.0) {
             if (kz > 0) return at_floor(it + 1);
-            return zc_family(ints, floats, r, ws, eps, max_iter, ZC_ONLY);
+            // the paper's miss: every point of A on the ray lies above h / n^T r, which is
+            // above b (b is outside A, on the far side of n's hyperplane) and so above t_up
+            if (rn < 0.0 && h / rn > low_h / dot(low_n, r)) {
+                for (Int i = 0; i < n; ++i) low_n[i] = nvec[i];
+                low_h = h;
+            }
+            return at_floor(it + 1);
         }
         const double t_next = exact ? t - d / rn : std::min(h / rn, t);
         if (h / rn < t_up) {
@@ -254,11 +267,14 @@ inline Shot walk(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter,
 }
 
 // ZC from the origin (section 3.3), as every procedure starts: r outside CO(A), a miss (or a ray
-// that leaves A at the origin) certified by h_A(n) <= 0 < n^T r, returned as such (LIMIT when ZC
-// ran out of iterations); else ZC's point t r = sum lz_j Pz_j with its t, or with kz = 0 and
-// t = the paper's floor max(-h_A(-r), 0) / r^T r where ZC's weights do not reproduce t r (r
-// along the boundary of CO(A): ZC's cone loses rank and takes for INSIDE a point it reproduces
-// to ~1e-8, 1e-6 off along a ray that grazes A). Pz, Wz, lz: n + 2 rows.
+// that leaves A at the origin) certified by h_A(n) <= 0 < n^T r (to rounding: miss_to_rounding;
+// a stalled ZC's normal first made orthogonal to its generators' span, `polish_normal`),
+// returned as such (LIMIT when ZC ran out of iterations); else ZC's point t r = sum lz_j Pz_j
+// with its t. Where neither is certified, kz = 0 and t = the paper's floor
+// max(-h_A(-r), 0) / r^T r, for the walk from outside to decide: ZC stalled short of a
+// certificate (r within ~1e-6 of a curved face of CO(A)), or its weights do not reproduce its
+// point (r along the boundary of CO(A): ZC's cone loses rank and takes for INSIDE a point it
+// reproduces to ~1e-8, 1e-6 off along a ray that grazes A). Pz, Wz, lz: n + 2 rows.
 struct Start {
     bool decided;   // `shot` is the answer
     Shot shot;
@@ -272,22 +288,33 @@ inline Start start(IVec ints, Vec floats, Vec r, Int ws, Int max_iter, Mat Pz, M
     Array zeros(n);
     const DistOut z = zc(ints, floats, zeros.vec(), r, Pz, Wz, lz, 0, 0.0, 0.0, max_iter, w.nvec,
                          w.v, w.point, w.wit, w.scratch.sc);
+    Int calls = z.calls;
     if (z.status == MAX_ITER)
-        return {true, make_result(LIMIT, 0.0, INF, z.h, 1, z.calls, w.nvec, Pz, lz, Wz, 0, 0), 0,
-                0.0, z.calls};
+        return {true, make_result(LIMIT, 0.0, INF, z.h, 1, calls, w.nvec, Pz, lz, Wz, 0, 0), 0,
+                0.0, calls};
     if (z.status != INSIDE) {
-        // as in zc_from at t = 0: a certified miss, or r on the boundary of CO(A) to rounding
-        return {true, make_result(MISS, 0.0, 0.0, z.h, 1, z.calls, w.nvec, Pz, lz, Wz, 0, 0), 0,
-                0.0, z.calls};
+        double h = z.h;
+        if (z.status == STALLED && h > 0.0) {
+            const double hm = zc_family_detail::polish_normal(
+                ints, floats, r, Pz, z.k, w.nvec, w.v, w.point, w.wit, w.scratch.sc, calls);
+            if (hm <= h) {
+                for (Int i = 0; i < n; ++i) w.nvec[i] = w.v[i];
+                h = hm;
+            }
+        }
+        if (z.status == CONVERGED || miss_to_rounding(h, Pz, z.k))
+            return {true, make_result(MISS, 0.0, 0.0, h, 1, calls, w.nvec, Pz, lz, Wz, 0, 0), 0,
+                    0.0, calls};
+    } else {
+        double sigma = 0.0;
+        for (Int j = 0; j < z.k; ++j) sigma += lz[j];
+        for (Int j = 0; j < z.k; ++j) lz[j] /= sigma;
+        if (holds(Pz, lz, z.k, 1.0 / sigma, r, w.v, POINT_HOLDS))
+            return {false, Shot{}, z.k, 1.0 / sigma, calls};
     }
-    double sigma = 0.0;
-    for (Int j = 0; j < z.k; ++j) sigma += lz[j];
-    for (Int j = 0; j < z.k; ++j) lz[j] /= sigma;
-    if (holds(Pz, lz, z.k, 1.0 / sigma, r, w.v, POINT_HOLDS))
-        return {false, Shot{}, z.k, 1.0 / sigma, z.calls};
     for (Int i = 0; i < n; ++i) w.nvec[i] = -r[i];
     const double floor = std::max(-support(ints, floats, w.nvec, w.point, w.wit), 0.0) / dot(r, r);
-    return {false, Shot{}, 0, floor, z.calls + 1};
+    return {false, Shot{}, 0, floor, calls + 1};
 }
 
 }  // namespace gjk_based_detail

@@ -76,14 +76,26 @@ bool holds(Mat P, Vec lam, Int k, double t, Vec r, Vec b, double tol) {
 }
 
 // A hit only with its certificate, whatever procedure made it: t r the convex combination of
-// the record's points to POINT_HOLDS (`holds`) and its bracket t <= t_upper <= (1 + eps) t. A
-// hit without one is the LIMIT it is, its bracket [min(t, t_upper), t_upper].
+// the record's points to POINT_HOLDS (`holds`; the weights, nonnegative, are scaled to sum to 1:
+// an IE facet solved afresh gives t = 1 / y^T r and weights summing to 1 only to the solve's
+// accuracy) and its bracket t <= t_upper <= (1 + eps) t. A hit without one is the LIMIT it is,
+// its bracket [min(t, t_upper), t_upper].
 Shot certify(Shot out, Vec r, double eps) {
     if (out.status != HIT) return out;
     Array b(r.n);
     const double t = out.t, t_up = out.t_up;
-    if (t > 0.0 && t <= t_up && t_up - t <= eps * t &&
-        holds(out.V.mat(), out.lam.vec(), out.k(), t, r, b.vec(), POINT_HOLDS))
+    const Vec lam = out.lam.vec();
+    double sum = 0.0;
+    bool nonnegative = true;
+    for (Int j = 0; j < lam.n; ++j) {
+        nonnegative = nonnegative && lam[j] >= 0.0;
+        sum += lam[j];
+    }
+    if (nonnegative && std::abs(sum - 1.0) <= POINT_HOLDS)
+        for (Int j = 0; j < lam.n; ++j) lam[j] /= sum;
+    if (t > 0.0 && t <= t_up && t_up - t <= eps * t && nonnegative &&
+        std::abs(sum - 1.0) <= POINT_HOLDS &&
+        holds(out.V.mat(), lam, out.k(), t, r, b.vec(), POINT_HOLDS))
         return out;
     out.status = LIMIT;
     out.t = std::min(t, t_up);

@@ -869,6 +869,7 @@ def cone_slack(f, mu, mu_s):
 
 
 FORCE_CAP = 1e3   # resist_depth's bound on the sum of normal forces, for a unit wrench
+POLAR_TOL = 1e-12   # h_{W_i}(u) <= this (||u|| = 1, G_i of unit size): u is in K's polar cone
 
 
 def resist_depth(contacts, x):
@@ -926,6 +927,33 @@ def cone_polar_excess(contacts, u):
                      for G, mu, ms in contacts))
 
 
+def polar_polish(contacts, u, steps=30, tol=1e-14):
+    """u moved into the polar cone {u : h_{W_i}(u) <= 0 for every contact} (to tol, relative
+    to ||u|| = 1) by Newton steps on the contacts' supports h_{W_i}(u) = y_1 + ||D y_t||,
+    y = G_i^T u, whose gradient is G_i (1, D^2 y_t / ||D y_t||) (the support point of W_i):
+    the shortest step that zeroes every support not clearly negative, by least squares (one
+    contact at a time stalls where two cones meet at a small angle, a pinch's wedge); None if
+    that fails. A conic solver's dual direction violates the cone by ~1e-8, which a pinch's
+    internal forces (unbounded along a line) would make worthless as a certificate."""
+    u = np.asarray(u, dtype=float) / np.linalg.norm(u)
+    for _ in range(steps):
+        rows, hs = [], []
+        for G, mu, ms in contacts:
+            y = G.T @ u
+            d2 = np.array([0.0, mu * mu, mu * mu, ms * ms])
+            q = np.sqrt(np.sum(d2 * y * y))
+            h = y[0] + q
+            if h > -1e-6:
+                rows.append(G @ (np.r_[1.0, 0.0, 0.0, 0.0] + (d2 * y / q if q > 0.0 else 0.0)))
+                hs.append(h + 1e-15)
+        if not hs or max(hs) <= tol:
+            return u
+        step = np.linalg.lstsq(np.array(rows), -np.array(hs), rcond=None)[0]
+        u = u + step
+        u = u / np.linalg.norm(u)
+    return u if cone_polar_excess(contacts, u) <= POLAR_TOL else None
+
+
 def resist_projection(contacts, x):
     """(p, u): the wrench p of K nearest x (an SOCP) and the unit u = (x - p) / ||x - p||
     (None when x is in K to the solver's accuracy)."""
@@ -959,7 +987,8 @@ def resist_margin(contacts, w_ext):
     sum_i G_i f_i = -w_ext, eq. 11), with a margin, for x = -w_ext / ||w_ext||: the depth of x
     in K (> 0: `resist_depth`), or minus its distance from K (< 0: a unit u with
     h_{W_i}(u) <= 0 for every contact, so that u^T w <= 0 on K, and u^T x > 0, a distance
-    recomputed here with truth's support), or 0 when neither is proven (x on K's boundary to
+    recomputed here with truth's support after `polar_polish`, or the direction of x off the
+    grasp map's span), or 0 when neither is proven (x on K's boundary to
     the solvers' accuracy). Independent of the objective: K is the same for every norm and
     magnitude."""
     x = -np.asarray(w_ext, dtype=float)
@@ -967,7 +996,18 @@ def resist_margin(contacts, w_ext):
     depth = resist_depth(contacts, x)
     if depth > 0.0:
         return depth
+    distance = 0.0
+    # x off the span of the grasp map (a pinch transmits no torque about its axis): the
+    # residual's direction u has G_i^T u = 0, h_{W_i}(u) = 0 to rounding, whatever the forces
+    Gc = np.hstack([G[:, _contact_dims(mu, ms)] for G, mu, ms in contacts])
+    coef = np.linalg.lstsq(Gc, x, rcond=1e-10)[0]
+    off = x - Gc @ coef
+    if np.linalg.norm(off) > 0.0:
+        u = off / np.linalg.norm(off)
+        if cone_polar_excess(contacts, u) <= POLAR_TOL:
+            distance = max(distance, float(u @ x))
     _, u = resist_projection(contacts, x)
-    if u is None or cone_polar_excess(contacts, u) > 1e-9:
-        return 0.0
-    return min(-float(u @ x), 0.0)
+    u = None if u is None else polar_polish(contacts, u)
+    if u is not None:
+        distance = max(distance, float(u @ x))
+    return -distance
