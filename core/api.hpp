@@ -34,6 +34,8 @@ Int solve_basic(Mat M, Int n, Mat lu, IVec prow, IVec pcol, Vec b, Vec x, double
 void basic_null_space(Mat lu, IVec pcol, Int n, Int rank, Mat Z, Vec w);
 
 // ---- corral.hpp -------------------------------------------------------------------------
+constexpr double FACET_HOLDS = 1e-12;   // on_point: an IE step's facet weights, Fig. 3b's rule
+constexpr double POINT_HOLDS = 1e-9;    // on_point: ZC's and Bi-GJK's final point, any hit
 inline void set_row(Mat P, Mat Wt, Int j, Vec point, Vec wit) {
     for (Int i = 0; i < P.cols; ++i) P(j, i) = point[i];
     for (Int i = 0; i < Wt.cols; ++i) Wt(j, i) = wit[i];
@@ -57,6 +59,7 @@ inline std::pair<double, double> residual2(Mat P, Vec x, Int k, Vec b) {
     }
     return {res, bn};
 }
+bool on_point(Mat P, Vec x, Int k, Vec b, double tol);
 bool reproduce(Mat P, Vec x, Int k, Vec b);
 double weights_on_ray(Mat S, Int m, Vec r, Vec x, Mat D, Mat work, Vec wrhs, Vec rhs);
 inline void combine(Mat P, Vec lam, Int k, Vec out) {
@@ -143,8 +146,38 @@ struct Shot {
     Int singular = 0;
     Int k() const { return V.rows; }
 };
-// a hit's t_upper, below t by at most FACE_ROUNDING (relative), is t
-double reported_upper(Int status, double t, double t_up);
+// A bound t_upper = h / n^T r below the t of points P[:k] by at most this much (relative) is
+// rounding: FACE_ROUNDING, or where h is far smaller than the points (a normal nearly orthogonal
+// to them and to r), the rounding of h, ~64 ulps of their size, relative to h; never more than
+// FACE_ROUNDING_MAX.
+constexpr double FACE_ROUNDING = 1e-12;
+constexpr double FACE_ROUNDING_MAX = 1e-10;
+inline double face_rounding(Mat P, Int k, double h) {
+    double vmax = 0.0;
+    for (Int j = 0; j < k; ++j) {
+        double pp = 0.0;
+        for (Int i = 0; i < P.cols; ++i) pp += P(j, i) * P(j, i);
+        vmax = std::max(vmax, pp);
+    }
+    const double rho = 64.0 * 2.220446049250313e-16 * std::sqrt(vmax) / std::abs(h);
+    return std::min(std::max(FACE_ROUNDING, rho), FACE_ROUNDING_MAX);
+}
+// A stalled ZC's h_A(n) >= 0 at the origin is a miss certificate (h_A(n) <= 0 < n^T r) only
+// while it is rounding: at most MISS_ROUNDING of the size of its points P[:k] (the rounding a
+// stalled cone's normal keeps, ~100 ulps of sums of a few support values).
+constexpr double MISS_ROUNDING = 1e-11;
+inline bool miss_to_rounding(double h, Mat P, Int k) {
+    if (h <= 0.0) return true;
+    double vmax = 0.0;
+    for (Int j = 0; j < k; ++j) {
+        double pp = 0.0;
+        for (Int i = 0; i < P.cols; ++i) pp += P(j, i) * P(j, i);
+        vmax = std::max(vmax, pp);
+    }
+    return h <= MISS_ROUNDING * std::sqrt(vmax);
+}
+// a hit's t_upper, below t by at most rho (relative: face_rounding), is t
+double reported_upper(Int status, double t, double t_up, double rho);
 // Python's _result: copies normal, P[:k], lam[:k], Wt[:k]; t_up through reported_upper
 Shot make_result(Int status, double t, double t_up, double h_n, Int iters, Int calls,
                  Vec normal, Mat P, Vec lam, Mat Wt, Int k, Int singular);
@@ -158,6 +191,8 @@ constexpr double POINT_HOLDS = 1e-9;    // holds: ZC's and Bi-GJK's final point
 // the tolerance a final point is held to: POINT_HOLDS, or eps where it is tighter (a point off the
 // ray by more than eps t would widen the certified bracket beyond eps), not below FACET_HOLDS
 inline double point_holds(double eps) { return std::min(POINT_HOLDS, std::max(eps, FACET_HOLDS)); }
+// A hit only with its certificate: t r in A to point_holds(eps) relative and t_upper within eps
+Shot certify(Shot out, Vec r, double eps);
 
 // ---- zc_family.hpp ----------------------------------------------------------------------
 // Pz, Wz, lz: the caller's, at least n + 2 rows (written to). inverse: (n, n) or 0 rows.

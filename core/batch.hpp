@@ -96,8 +96,9 @@ void parallel_rows(Int rows, Int threads, MakeState make_state, Row row) {
 // Grasp.min_force passes them to shoot_and_read_forces (graspforce/grasp.py). Writes per row
 // sigma, sigma_lower, status (batch::*) and iterations, and with forces.n > 0 the (m, 4) local
 // forces at forces[4 m i:]; with Grasp.min_force's reading of the head: a zero wrench is
-// OPTIMAL with sigma 0; a miss, or a hit that leaves W at the origin, INFEASIBLE with sigma
-// inf; a shot stopped by max_iter MAX_ITER, with its forces when they are finite; t_scale is the
+// OPTIMAL with sigma 0; a miss (which includes a ray leaving W at the origin) INFEASIBLE with
+// sigma inf; a shot stopped by max_iter, or whose forces lack their certificate (forces.hpp),
+// MAX_ITER, with its forces when they are finite; t_scale is the
 // shot set's (m on W_Linf's lift). Rows without forces get zeros.
 inline void min_force_rows(Mat wrenches, Int method, double eps, Int max_iter, Int packed_size,
                            Vec start, IVec ints, Vec floats, Vec reader, double t_scale,
@@ -130,7 +131,7 @@ inline void min_force_rows(Mat wrenches, Int method, double eps, Int max_iter, I
                 sig = lower = 0.0;
             } else {
                 sig = packed[0];
-                if (head.status == MISS || (head.status == HIT && sig == INF)) {
+                if (head.status == MISS) {
                     code = batch::INFEASIBLE;
                     lower = INF;
                 } else if (sig == INF) {

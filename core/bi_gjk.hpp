@@ -54,26 +54,18 @@ inline Exit simplex_exit(Mat P, Mat Wt, Vec lam, Int k, Vec r, double t, Mat M, 
 // that simplex, not just to the midpoint (`simplex_exit`): ingot W_L1, median iterations
 // 32 -> 6, support calls 74 -> 72.
 Shot bi_gjk(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter) {
+    using namespace gjk_based_detail;
     const Int n = r.n;
-    Array P(n + 2, n);
-    Array Wt(n + 2, ws);
-    Array lam_(n + 2);
-    const Vec lam = lam_.vec();
-    Array zeros(n);
-    gjk_based_detail::Work w(n, ws);
-    const DistOut z = zc(ints, floats, zeros.vec(), r, P.mat(), Wt.mat(), lam, 0, 0.0, 0.0,
-                         max_iter, w.nvec, w.v, w.point, w.wit, w.scratch.sc);
-    if (z.status != INSIDE) {
-        // as in zc_from at t = 0: a certified miss, or r on the boundary of CO(A) to rounding
-        return make_result(z.status != MAX_ITER ? MISS : LIMIT, 0.0, 0.0, z.h, 1, z.calls,
-                           w.nvec, P.mat(), lam, Wt.mat(), 0, 0);
-    }
-    const Int k = z.k;
-    double sigma = 0.0;
-    for (Int j = 0; j < k; ++j) sigma += lam[j];
-    for (Int j = 0; j < k; ++j) lam[j] /= sigma;
-    return bi_gjk_from(ints, floats, r, ws, eps, max_iter, 1.0 / sigma, P.mat(), Wt.mat(), lam,
-                       k, r, z.calls);
+    Array P(n + 2, n), Wt(n + 2, ws), lam(n + 2);
+    Start s = start(ints, floats, r, ws, max_iter, P.mat(), Wt.mat(), lam.vec());
+    if (s.decided) return std::move(s.shot);
+    // ZC's point is the bisection's lower end only where its weights reproduce it; else no
+    // point of A is known on the ray, and the walk from outside (section 3.1) finds one
+    if (s.kz == 0)
+        return walk(ints, floats, r, ws, eps, max_iter, P.mat(), Wt.mat(), lam.vec(), 0, s.t, 1,
+                    s.calls);
+    return bi_gjk_from(ints, floats, r, ws, eps, max_iter, s.t, P.mat(), Wt.mat(), lam.vec(),
+                       s.kz, r, s.calls);
 }
 
 // Bi-GJK's bisection from t_lo r = sum lam_l P_l (l < k), a point of A, and the upper
@@ -146,6 +138,12 @@ Shot bi_gjk_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter,
         calls += g.calls;
         if (g.status == MAX_ITER) break;
         if (g.status == INSIDE) {
+            // GJK's floor is absolute (A's size): tm r is a point of A on the ray only if the
+            // weights reproduce it relative to its own length; else the bisection has reached
+            // that floor
+            if (!holds(P, lam, k, tm, r, b, POINT_HOLDS))
+                return finish_inside(ints, floats, r, ws, eps, max_iter, t_lo, Pz, Wz, lz, kz,
+                                     it + 1, calls);
             t_lo = tm;
             if (k == n + 1) {
                 const bi_gjk_detail::Exit e =

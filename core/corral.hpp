@@ -12,19 +12,35 @@
 
 namespace gf {
 
-// Whether the weights x[:k] of the rows P[:k] reproduce b to 1e-12 (1 + ||b||), the rounding
-// floor of Fig. 3b's rule; if so they are clipped at zero and normalized to sum to 1.
+// Whether the weights x[:k] of the rows P[:k] reproduce b to tol relative, or to the sum's own
+// rounding, 1e-14 sum_j |x_j| ||P_j|| (about 50 unit roundoffs; it matters where t r is far
+// shorter than the points that make it: the paper's sphere at lambda = 1e-5), but never worse
+// than POINT_HOLDS relative: a point within rounding of A's size but far shorter (a ray that
+// leaves A at the origin, t r 1e-13 from A) is not a point of A on the ray.
+bool on_point(Mat P, Vec x, Int k, Vec b, double tol) {
+    const auto [res, bb] = residual2(P, x, k, b);
+    if (res <= tol * tol * bb) return true;
+    if (res > POINT_HOLDS * POINT_HOLDS * bb) return false;
+    double mass = 0.0;
+    for (Int j = 0; j < k; ++j) {
+        double pp = 0.0;
+        for (Int i = 0; i < P.cols; ++i) pp += P(j, i) * P(j, i);
+        mass += std::abs(x[j]) * std::sqrt(pp);
+    }
+    return res <= 1e-28 * mass * mass;
+}
+
+// Whether the weights x[:k] of the rows P[:k], clipped at zero and normalized to sum to 1 (as
+// they are then left), reproduce b to FACET_HOLDS relative (`on_point`): the rule of Fig. 3b.
 bool reproduce(Mat P, Vec x, Int k, Vec b) {
-    const auto [res, bn] = residual2(P, x, k, b);
-    const double tol = 1e-12 * (1.0 + std::sqrt(bn));
-    if (res > tol * tol) return false;
     double s = 0.0;
     for (Int j = 0; j < k; ++j) {
         x[j] = std::max(x[j], 0.0);
         s += x[j];
     }
+    if (!(s > 0.0)) return false;
     for (Int j = 0; j < k; ++j) x[j] /= s;
-    return true;
+    return on_point(P, x, k, b, FACET_HOLDS);
 }
 
 // Weights x[:m] (summing to 1) and t (returned) of the point of CH(S[:m]) nearest the ray, by

@@ -27,9 +27,10 @@ inline Shot distance_based(IVec ints, Vec floats, Vec r, Int ws, Int method, dou
         out = bi_gjk(ints, floats, r, ws, eps, max_iter);
     else
         out = zc_family(ints, floats, r, ws, eps, max_iter, ZC_ONLY);
-    // a LIMIT short of max_iter is a stall (zc_from): handed over like an uncertified hit
+    // a LIMIT short of max_iter is a stall (zc_from), or a hit without its certificate
+    out = certify(std::move(out), r, eps);
     const bool stalled = out.status == LIMIT && out.iters < max_iter;
-    if (!stalled && (out.status != HIT || out.t_up - out.t <= eps * out.t)) return out;
+    if (!stalled) return out;
     // GJK's simplex and ZC's cone from b_k lose rank near the boundary (relative singular values
     // ~1e-13) and can stall above eps, seen on a third of the ingot grasp's rays at eps = 1e-9.
     // IE's facets are solved from the origin and stay well-conditioned: finish with IE steps,
@@ -46,12 +47,12 @@ inline Shot distance_based(IVec ints, Vec floats, Vec r, Int ws, Int method, dou
             for (Int i = 0; i < ws; ++i) W(j, i) = Wo(j, i);
             lz.data[j] = out.lam.data[j];
         }
-        Shot fin = zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, out.t, P, W, lz.vec(), n,
-                           0, 0, Mat{}, Mat{});
-        if (fin.status == HIT && fin.t_up - fin.t <= eps * fin.t)
-            return handed_over(out, std::move(fin));
+        Shot fin = certify(zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, out.t, P, W,
+                                   lz.vec(), n, 0, 0, Mat{}, Mat{}),
+                           r, eps);
+        if (fin.status == HIT) return handed_over(out, std::move(fin));
     }
-    return handed_over(out, ie(ints, floats, r, ws, eps, max_iter));
+    return handed_over(out, certify(ie(ints, floats, r, ws, eps, max_iter), r, eps));
 }
 
 }  // namespace gf::dispatch_detail
@@ -69,6 +70,7 @@ Shot shoot(IVec ints, Vec floats, Vec r, Int ws, Int method, double eps, Int max
         out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_NEWTON);
     else
         out = dispatch_detail::distance_based(ints, floats, r, ws, method, eps, max_iter);
+    out = certify(std::move(out), r, eps);
     // GJK-based's own stalls are its finish's (ZC's): walking the ray again would repeat them
     if (method == GJK_BASED) return out;
     return unstall(ints, floats, r, ws, eps, max_iter, std::move(out));

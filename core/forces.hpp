@@ -12,7 +12,7 @@ namespace forces {
 
 // A Target's force reader (graspforce.wrench_space): how forces are read off witnesses, as one
 // float array read by offsets. Layout: [witness size, linf, full, m, leaves L, table (4, L) by
-// rows CONTACT, SLOT, SIZE, MAP, G (m, 6, 4), spin_weight (m,), maps].
+// rows CONTACT, SLOT, SIZE, MAP, G (m, 6, 4), spin_weight (m,), mu (m,), mu_spin (m,), maps].
 constexpr Int READER_HEAD = 5;
 
 // Entries [sigma, forces (m, 4), wrenches (m, 6), resultant (6,)] ahead of the ray-shooting
@@ -28,7 +28,11 @@ constexpr Int CONTACT = 0;
 constexpr Int SLOT = 1;
 constexpr Int SIZE = 2;
 constexpr Int MAP = 3;
-constexpr double ORIGIN_FLOOR = 1e-12;   // |z| <= this times W's size: z is the origin to rounding
+// the forces' certificate: sum_i G_i f_i + w_ext within RESIDUAL |w_ext| (the bound on
+// the equilibrium residual), each f_i in F_i to CONE_ROUNDING relative to f_i1 (every force is a
+// nonnegative combination of unit forces on their cones' boundaries, each to a few ulps)
+constexpr double RESIDUAL = 1e-9;
+constexpr double CONE_ROUNDING = 1e-12;
 
 // sigma, with forces (m, 4), wrenches (m, 6) and resultant (6,) written to their entries of
 // `packed` (zeroed by the caller), for z = sum_k weights_k v_k = t r, scale = 1/t, and the force
@@ -51,7 +55,7 @@ inline double contact_forces(Mat W, Vec weights, double scale, Vec reader, Vec p
     const Int leaves = static_cast<Int>(reader[4]);
     const Int g0 = READER_HEAD + 4 * leaves;   // G_i
     const Int s0 = g0 + 24 * m;                // spin weights
-    const Int m0 = s0 + m;                     // maps
+    const Int m0 = s0 + 3 * m;                 // maps, after mu and mu_spin
     const Int f0 = 1;                          // forces, wrenches, resultant in packed
     const Int w0 = f0 + 4 * m;
     const Int r0 = w0 + 6 * m;
@@ -98,6 +102,40 @@ inline double contact_forces(Mat W, Vec weights, double scale, Vec reader, Vec p
     return sigma;
 }
 
+// Whether the forces and resultant that `contact_forces` wrote to `packed` resist w_ext to
+// RESIDUAL relative, with each force in its friction cone (eq. 12) to CONE_ROUNDING: a few dot
+// products and a square root per contact.
+inline bool forces_hold(Vec w_ext, double ww, Vec reader, Vec packed) {
+    using forces::READER_HEAD;
+    const Int m = static_cast<Int>(reader[3]);
+    const Int leaves = static_cast<Int>(reader[4]);
+    const Int mu0 = READER_HEAD + 4 * leaves + 24 * m + m;
+    const Int f0 = 1;
+    const Int r0 = f0 + 10 * m;
+    double res = 0.0;
+    for (Int a = 0; a < 6; ++a) {
+        const double e = packed[r0 + a] + w_ext[a];
+        res += e * e;
+    }
+    if (!(res <= RESIDUAL * RESIDUAL * ww)) return false;
+    for (Int i = 0; i < m; ++i) {
+        const double mu = reader[mu0 + i];
+        const double mu_s = reader[mu0 + m + i];
+        const double f1 = packed[f0 + 4 * i], f2 = packed[f0 + 4 * i + 1],
+                     f3 = packed[f0 + 4 * i + 2], f4 = packed[f0 + 4 * i + 3];
+        const double tol = CONE_ROUNDING * f1;
+        double excess;
+        if (mu == 0.0)
+            excess = std::max(std::sqrt(f2 * f2 + f3 * f3), std::abs(f4));
+        else if (mu_s == 0.0)
+            excess = std::max(std::sqrt(f2 * f2 + f3 * f3) / mu - f1, std::abs(f4));
+        else
+            excess = std::sqrt((f2 * f2 + f3 * f3) / (mu * mu) + f4 * f4 / (mu_s * mu_s)) - f1;
+        if (!(f1 >= 0.0 && excess <= tol)) return false;
+    }
+    return true;
+}
+
 }  // namespace forces_detail
 
 // One compiled call per min_force: z = t r on W by `method` (r = -w_ext), then the forces read
@@ -106,8 +144,11 @@ inline double contact_forces(Mat W, Vec weights, double scale, Vec reader, Vec p
 //
 // Returns the head of the shot, whose arrays go to `packed` (extra_size(m) + capacity(6, ws)
 // entries) after the extra entries [sigma, forces (m, 4), wrenches (m, 6), resultant (6,)];
-// zero forces and sigma = inf when the ray misses W or leaves it at the origin (to rounding).
-// Or, with no shot, a head whose status is ZERO_WRENCH or BAD_WRENCH.
+// zero forces and sigma = inf when the ray misses W or the shot found no point of W on it.
+// A hit is checked against the answer's own certificate (`forces_hold`, and 1 / t_upper <=
+// sigma <= (1 + eps) / t_upper, each within eps and rounding): where it fails, the head's
+// status is LIMIT, an answer with its bracket but not certified. Or, with no shot, a head
+// whose status is ZERO_WRENCH or BAD_WRENCH.
 Head shoot_and_read_forces(Vec w_ext, Int method, double eps, Int max_iter, Vec packed,
                            Vec start, IVec ints, Vec floats, Vec reader) {
     using namespace forces_detail;
@@ -124,20 +165,24 @@ Head shoot_and_read_forces(Vec w_ext, Int method, double eps, Int max_iter, Vec 
                                 max_iter, start);
     const double t = out.t;
     const Int m = static_cast<Int>(reader[3]);
-    const Mat V = out.V.mat();
-    double size = 0.0;
-    for (Int k = 0; k < V.rows; ++k)
-        for (Int a = 0; a < V.cols; ++a) size = std::max(size, std::abs(V(k, a)));
     const Int e = forces::extra_size(m);
     for (Int a = 0; a < e; ++a) packed[a] = 0.0;
-    // a point of W at t r with |t r| at the rounding of W's size is the origin: an Linf set
-    // contains 0, and a ray that leaves W there has no finite forces (the witnesses' forces,
-    // scaled by 1/t, would be rounding blown up)
-    if (out.status == MISS || !(t * std::sqrt(ww) > ORIGIN_FLOOR * size))
+    // no point of W on the ray beyond the origin: no finite forces
+    if (out.status == MISS || !(t > 0.0)) {
         packed[0] = INF;
-    else
-        packed[0] = contact_forces(out.W.mat(), out.lam.vec(), 1.0 / t, reader, packed);
-    return pack(out, packed, e);
+        return pack(out, packed, e);
+    }
+    const double sigma = contact_forces(out.W.mat(), out.lam.vec(), 1.0 / t, reader, packed);
+    packed[0] = sigma;
+    Head head = pack(out, packed, e);
+    if (out.status == HIT) {
+        // t on W_Linf is m t' on its lift in R^(m + 5); 1 on W itself (n = 6)
+        const double lower = 1.0 / (static_cast<double>(n - 5) * out.t_up);
+        if (!(forces_hold(w_ext, ww, reader, packed) && lower <= sigma * (1.0 + eps) &&
+              sigma <= lower * (1.0 + eps + 1e-15)))
+            head.status = LIMIT;
+    }
+    return head;
 }
 
 }  // namespace gf

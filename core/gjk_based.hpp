@@ -8,8 +8,8 @@
 // (points of A, witnesses in W), and the hyperplane {x : normal^T x = h_n} supporting A
 // (h_n = h_A(normal)) crossing the ray at t_upper r. On a miss, normal separates:
 // h_A(normal) <= 0 < normal^T r. Stopping rules are relative: (t_upper - t) / t <= eps.
-// Also the pieces Bi-GJK (bi_gjk.hpp) shares: the miss certificate, Fig. 3b's rule, the work
-// arrays and the finish at GJK's numerical floor.
+// Also the pieces Bi-GJK (bi_gjk.hpp) shares: Fig. 3b's rule, the work arrays and the finish at
+// GJK's numerical floor.
 
 namespace gf {
 namespace gjk_based_detail {
@@ -34,32 +34,6 @@ struct Work {
     Work(const Work&) = delete;
     Work& operator=(const Work&) = delete;
 };
-
-// A miss with its certificate: ZC from the origin finds n with h_A(n) < 0 < n^T r; or, when
-// ZC finds r in CO(A), the hit that ZC-IE then computes.
-inline Shot miss(IVec ints, Vec floats, Vec r, Int ws, double eps, Int iters, Int calls,
-                 Int max_iter) {
-    const Int n = r.n;
-    Array P(n + 1, n);
-    Array Wt(n + 1, ws);
-    Array lam(n + 1);
-    Array zeros(n);
-    Work w(n, ws);
-    const DistOut z = zc(ints, floats, zeros.vec(), r, P.mat(), Wt.mat(), lam.vec(), 0, 0.0,
-                         0.0, max_iter, w.nvec, w.v, w.point, w.wit, w.scratch.sc);
-    if (z.status == INSIDE) {
-        // r is in CO(A) after all: the caller's miss test was rounding (seen with GJK on a flat
-        // A whose affine span holds the ray), and the ray meets A. ZC-IE decides it.
-        Shot out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE);
-        out.iters = out.iters + iters + z.it;
-        out.calls = out.calls + calls + z.calls;
-        out.singular = out.singular + 1;
-        return out;
-    }
-    const Int status = z.status != MAX_ITER ? MISS : LIMIT;
-    return make_result(status, 0.0, 0.0, z.h, iters + z.it, calls + z.calls, w.nvec, P.mat(),
-                       lam.vec(), Wt.mat(), 0, 0);
-}
 
 // Fig. 3b's improved stopping rule, the ray meets CH(V_A(b_k)): returns where, t' with
 // barycentric weights x[:k] of t' r in CH(P[:k]), or -1. t' and the weights are solved
@@ -105,9 +79,36 @@ inline Shot finish_inside(IVec ints, Vec floats, Vec r, Int ws, double eps, Int 
                    Mat{}, Mat{});
 }
 
-}  // namespace gjk_based_detail
+// The paper's miss tests (section 3.1) turned into the contract's certificate. The hyperplane
+// {a^T x = h_a}, h_a = h_A(a), a^T r > 0, bounds any point t r of A from above, t <= t_u =
+// h_a / a^T r; one with b^T r < 0 bounds it from below, t >= t_l = h_b / b^T r (the paper's
+// floor: b = -r, or a converged GJK direction that points away from r). Where t_l > t_u the ray
+// misses A: by subadditivity h_A(a / a^T r + b / |b^T r|) <= t_u - t_l < 0, while the product
+// of that direction with r is 0; adding delta r, delta = (t_l - t_u) / (2 h_A(r)), keeps its
+// support negative and turns the product positive: m with h_A(m) < 0 < m^T r. It is checked by
+// a support call (into `point`, counted in `calls`); false when rounding defeats it.
+inline bool crossing_miss(IVec ints, Vec floats, Vec r, Vec a, double h_a, Vec b, double h_b,
+                          double h_r, Vec m, Vec point, Vec wit, double& h_m, Int& calls) {
+    const double ar = dot(a, r), br = dot(b, r);
+    if (!(ar > 0.0 && br < 0.0)) return false;
+    const double gap = h_b / br - h_a / ar;
+    if (!(gap > 0.0)) return false;
+    calls += 1;
+    const double delta = h_r > 0.0 ? 0.5 * gap / h_r : 1.0 / dot(r, r);
+    double mm = 0.0;
+    for (Int i = 0; i < r.n; ++i) {
+        m[i] = a[i] / ar - b[i] / br + delta * r[i];
+        mm += m[i] * m[i];
+    }
+    const double inv = 1.0 / std::sqrt(mm);
+    for (Int i = 0; i < r.n; ++i) m[i] *= inv;
+    h_m = support(ints, floats, m, point, wit);
+    return h_m <= 0.0 && dot(m, r) > 0.0;
+}
 
-// Section 3.1: b_k outside A walks down the ray, stopped by Fig. 3b's rule.
+// Section 3.1's walk, from b_0 = h_A(r) r / r^T r down the ray, above the floor t_lo: a point of
+// A on the ray, t_lo r = sum lz_j Pz_j (kz > 0, certified by `holds`), or, with kz = 0, the
+// paper's floor max(-h_A(-r), 0) / r^T r under which A has no point of the ray.
 //
 // Eq. (4) steps to the hyperplane H(n_k, v_A(b_k)), which needs d_A(b_k) exactly: GJK run to
 // eps at every b_k. The steps converge quadratically where A is curved (the tangent plane at
@@ -117,39 +118,59 @@ inline Shot finish_inside(IVec ints, Vec floats, Vec r, Int ws, double eps, Int 
 // crosses the ray, outside A whatever GJK's accuracy. Once that tolerance reaches eps, eq. (4)
 // and Fig. 3b's rule as written. (Ingot W_L1, 300 rays: median support calls 168 -> 80;
 // INEXACT_GJK 0.1 gave 98, 0.01 106.) A direction from an unconverged GJK may not cut the ray
-// below b at all, or even point away from it (n^T r <= 0, which only a converged GJK turns into
-// a miss): GJK then goes on from the same b, TIGHTEN times tighter (62 -> 55 calls; before,
-// such a ray fell into the miss test's ZC and was answered by ZC-IE, 59 of 300).
-Shot gjk_based(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter) {
-    using namespace gjk_based_detail;
+// below b at all, or even point away from it (n^T r <= 0): GJK then goes on from the same b,
+// TIGHTEN times tighter (62 -> 55 calls). GJK's INSIDE is taken for a point of A on the ray
+// only when its weights reproduce t r relative to t r (`holds`): its own floor is relative to
+// A's size, and a ray that leaves A at the origin comes within it of A at every small t.
+// Pz, Wz, lz: n + 2 rows (finish_inside's zc_from works in them). it: iterations so far.
+inline Shot walk(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Mat Pz, Mat Wz,
+                 Vec lz, Int kz, double t_lo, Int it0, Int calls) {
     const Int n = r.n;
     const double rr = dot(r, r);
-    Array P_(n + 2, n);
-    Array Wt_(n + 2, ws);
-    Array lam_(n + 2);
-    const Mat P = P_.mat();
-    const Mat Wt = Wt_.mat();
+    Array P_(n + 2, n), Wt_(n + 2, ws), lam_(n + 2);
+    const Mat P = P_.mat(), Wt = Wt_.mat();
     const Vec lam = lam_.vec();
     Work w(n, ws);
     const Vec nvec = w.nvec, point = w.point, wit = w.wit, x = w.x;
     const Scratch& sc = w.scratch.sc;
-    const double h0 = support(ints, floats, r, point, wit);
-    Int calls = 1;
-    if (h0 <= 0.0) return miss(ints, floats, r, ws, eps, 0, calls, max_iter);
-    double t = h0 / rr;
-    double t_up = t;
-    Array vecs(2 * n);   // best_n, b
+    Array vecs(3 * n);   // best_n, b, low_n
     const Vec best_n = vecs.vec().segment(0, n);
     const Vec b = vecs.vec().segment(n, n);
+    // the best hyperplane that bounds the ray's points of A from below (low_n^T r < 0): the
+    // paper's floor, -r, at first
+    const Vec low_n = vecs.vec().segment(2 * n, n);
+    const double h0 = support(ints, floats, r, point, wit);
+    calls += 1;
+    double t = h0 / rr;
+    double t_up = t;
     const double rnorm = std::sqrt(rr);
     for (Int i = 0; i < n; ++i) best_n[i] = r[i] / rnorm;
-    double best_h = h0 / std::sqrt(rr);
+    double best_h = h0 / rnorm;
+    for (Int i = 0; i < n; ++i) low_n[i] = -r[i] / rnorm;
+    double low_h = -t_lo * rnorm;
+    // the walk reached its floor: the bracket [t_lo, t_up] closes on the certified point, or is
+    // finished from it by zc_from, which certifies its own answer; with no point of A, below
+    // the paper's floor the ray misses A
+    auto at_floor = [&](Int iters) {
+        if (kz == 0) {
+            double h_m = 0.0;
+            if (crossing_miss(ints, floats, r, best_n, best_h, low_n, low_h, h0, nvec, point,
+                              wit, h_m, calls))
+                return make_result(MISS, 0.0, 0.0, h_m, iters, calls, nvec, Pz, lz, Wz, 0, 0);
+            return make_result(LIMIT, 0.0, t_up, best_h, iters, calls, best_n, Pz, lz, Wz, 0, 0);
+        }
+        if (t_up - t_lo <= eps * t_lo && holds(Pz, lz, kz, t_lo, r, b, POINT_HOLDS))
+            return make_result(HIT, std::min(t_lo, t_up), t_up, best_h, iters, calls, best_n, Pz,
+                               lz, Wz, kz, 0);
+        return finish_inside(ints, floats, r, ws, eps, max_iter, t_lo, Pz, Wz, lz, kz, iters,
+                             calls);
+    };
     set_row(P, Wt, 0, point, wit);
     lam[0] = 1.0;
     Int k = 1;
-    double t_floor = -1.0;   // max(-h_A(-r), 0) / r^T r, evaluated when first needed
     double eps_gjk = std::max(eps, INEXACT_GJK);
-    for (Int it = 0; it < max_iter; ++it) {
+    for (Int it = it0; it < max_iter; ++it) {
+        if (t <= t_lo) return at_floor(it);
         for (Int i = 0; i < n; ++i) b[i] = t * r[i];
         const DistOut g = gjk(ints, floats, b, P, Wt, lam, k, eps_gjk, 0.0, true, max_iter,
                               nvec, w.v, point, wit, sc);
@@ -158,7 +179,12 @@ Shot gjk_based(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter) {
         const double h = g.h;
         calls += g.calls;
         if (g.status == INSIDE) {
-            // b_k = t r is in A: it met the boundary, or rounding in v_A(b_{k-1}) put it inside.
+            // b_k = t r is in A: it met the boundary, or rounding in v_A(b_{k-1}) put it
+            // inside; or it lies within GJK's floor of A, which is relative to A's size: a
+            // point of A on the ray only if GJK's weights reproduce it relative to its length
+            if (!holds(P, lam, k, t, r, b, POINT_HOLDS)) return at_floor(it + 1);
+            t_lo = t;
+            kz = keep(P, Wt, lam, k, Pz, Wz, lz);
             // Done if the last supporting hyperplane certifies it; else GJK has reached its
             // numerical floor (ingot W_L1: 255 of 300 rays).
             if (t_up - t <= eps * t) {
@@ -176,25 +202,44 @@ Shot gjk_based(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter) {
                                  calls);
         }
         if (g.status == MAX_ITER)
-            return make_result(LIMIT, t, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k, 0);
+            return make_result(LIMIT, t_lo, t_up, best_h, it + 1, calls, best_n, Pz, lz, Wz, kz,
+                               0);
+        if (g.status == STALLED && eps_gjk <= eps) {
+            // GJK's simplex lost rank at the exit (a corner of A, whose normals form a cone of
+            // more than one ray): Newton on its pieces, from the best normal so far
+            for (Int c = 0; c < 2; ++c) {
+                NewtonOut fin =
+                    newton_finish(ints, floats, r, eps, P, Wt, lam, k, best_n, t, c == 1);
+                calls += fin.calls;
+                it += fin.steps;   // each Newton step counts as an iteration, as in zc_from
+                if (fin.ok)
+                    return make_result(HIT, fin.t, fin.t_up, fin.h, it + 1, calls,
+                                       fin.normal.vec(), fin.V.mat(), fin.weights.vec(),
+                                       fin.W.mat(), fin.m, 0);
+            }
+        }
         const double rn = dot(r, nvec);
         const bool exact = eps_gjk <= eps;
         if (!exact && (rn <= 0.0 || h >= t * rn)) {
             // an unconverged direction whose hyperplane does not cut the ray below b tells
-            // nothing yet (n^T r <= 0 is no miss before GJK converges): tighten, same b
+            // nothing yet: tighten, same b
             eps_gjk = std::max(eps, TIGHTEN * eps_gjk);
             continue;
         }
-        if (rn <= 0.0) return miss(ints, floats, r, ws, eps, it + 1, calls, max_iter);
-        const double t_next = exact ? t - d / rn : std::min(h / rn, t);
-        if (t_floor < 0.0) {
-            Array minus_r_(n);
-            const Vec minus_r = minus_r_.vec();
-            for (Int i = 0; i < n; ++i) minus_r[i] = -r[i];
-            t_floor = std::max(-support(ints, floats, minus_r, point, wit), 0.0) / rr;
-            calls += 1;
+        // b outside A and a point of A below put every separating direction's n^T r > 0: a
+        // converged one that does not is GJK's rounding there; with no such point, the paper's
+        // miss (n^T r <= 0 while d_A(b) > 0), certified by ZC from the origin
+        if (rn <= 0.0) {
+            if (kz > 0) return at_floor(it + 1);
+            // the paper's miss: every point of A on the ray lies above h / n^T r, which is
+            // above b (b is outside A, on the far side of n's hyperplane) and so above t_up
+            if (rn < 0.0 && h / rn > low_h / dot(low_n, r)) {
+                for (Int i = 0; i < n; ++i) low_n[i] = nvec[i];
+                low_h = h;
+            }
+            return at_floor(it + 1);
         }
-        if (t_next < t_floor) return miss(ints, floats, r, ws, eps, it + 1, calls, max_iter);
+        const double t_next = exact ? t - d / rn : std::min(h / rn, t);
         if (h / rn < t_up) {
             t_up = h / rn;
             for (Int i = 0; i < n; ++i) best_n[i] = nvec[i];
@@ -202,16 +247,97 @@ Shot gjk_based(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter) {
         }
         const double step = t_next > 0.0 ? (t - t_next) / t_next : 0.0;
         t = t_next;
+        if (t <= t_lo) return at_floor(it + 1);
+        // Fig. 3b's rule, on GJK's simplex when it converged or stalled (its hull is in A
+        // either way): a point of A on the ray, the answer once the bracket closes on it, else
+        // the walk's floor
         const double t_ray =
-            exact && g.status == CONVERGED ? on_ray(P, k, r, t, eps, x, 1e-12, sc) : -1.0;
-        if (t_ray > 0.0) {
+            exact && g.status != MAX_ITER ? on_ray(P, k, r, t, eps, x, 1e-12, sc) : -1.0;
+        if (t_ray > t_lo) {
             for (Int j = 0; j < k; ++j) lam[j] = x[j];
-            return make_result(HIT, t_ray, t_up, best_h, it + 1, calls, best_n, P, lam, Wt, k,
-                               0);
+            if (t_up - t_ray <= eps * t_ray)
+                return make_result(HIT, t_ray, t_up, best_h, it + 1, calls, best_n, P, lam, Wt,
+                                   k, 0);
+            t_lo = t_ray;
+            kz = keep(P, Wt, lam, k, Pz, Wz, lz);
         }
         eps_gjk = std::max(eps, INEXACT_GJK * step * step);
     }
-    return make_result(LIMIT, t, t_up, best_h, max_iter, calls, best_n, P, lam, Wt, k, 0);
+    return make_result(LIMIT, t_lo, t_up, best_h, max_iter, calls, best_n, Pz, lz, Wz, kz, 0);
+}
+
+// ZC from the origin (section 3.3), as every procedure starts: r outside CO(A), a miss (or a ray
+// that leaves A at the origin) certified by h_A(n) <= 0 < n^T r (to rounding: miss_to_rounding;
+// a stalled ZC's normal first made orthogonal to its generators' span, `polish_normal`),
+// returned as such (LIMIT when ZC ran out of iterations); else ZC's point t r = sum lz_j Pz_j
+// with its t. Where neither is certified, kz = 0 and t = the paper's floor
+// max(-h_A(-r), 0) / r^T r, for the walk from outside to decide: ZC stalled short of a
+// certificate (r within ~1e-6 of a curved face of CO(A)), or its weights do not reproduce its
+// point (r along the boundary of CO(A): ZC's cone loses rank and takes for INSIDE a point it
+// reproduces to ~1e-8, 1e-6 off along a ray that grazes A). Pz, Wz, lz: n + 2 rows.
+struct Start {
+    bool decided;   // `shot` is the answer
+    Shot shot;
+    Int kz;
+    double t;
+    Int calls;
+};
+inline Start start(IVec ints, Vec floats, Vec r, Int ws, Int max_iter, Mat Pz, Mat Wz, Vec lz) {
+    const Int n = r.n;
+    Work w(n, ws);
+    Array zeros(n);
+    const DistOut z = zc(ints, floats, zeros.vec(), r, Pz, Wz, lz, 0, 0.0, 0.0, max_iter, w.nvec,
+                         w.v, w.point, w.wit, w.scratch.sc);
+    Int calls = z.calls;
+    if (z.status == MAX_ITER)
+        return {true, make_result(LIMIT, 0.0, INF, z.h, 1, calls, w.nvec, Pz, lz, Wz, 0, 0), 0,
+                0.0, calls};
+    if (z.status != INSIDE) {
+        double h = z.h;
+        if (z.status == STALLED && h > 0.0) {
+            const double hm = zc_family_detail::polish_normal(
+                ints, floats, r, Pz, z.k, w.nvec, w.v, w.point, w.wit, w.scratch.sc, calls);
+            if (hm <= h) {
+                for (Int i = 0; i < n; ++i) w.nvec[i] = w.v[i];
+                h = hm;
+            }
+        }
+        if (z.status == CONVERGED || miss_to_rounding(h, Pz, z.k))
+            return {true, make_result(MISS, 0.0, 0.0, h, 1, calls, w.nvec, Pz, lz, Wz, 0, 0), 0,
+                    0.0, calls};
+    } else {
+        double sigma = 0.0;
+        for (Int j = 0; j < z.k; ++j) sigma += lz[j];
+        for (Int j = 0; j < z.k; ++j) lz[j] /= sigma;
+        if (holds(Pz, lz, z.k, 1.0 / sigma, r, w.v, POINT_HOLDS))
+            return {false, Shot{}, z.k, 1.0 / sigma, calls};
+    }
+    for (Int i = 0; i < n; ++i) w.nvec[i] = -r[i];
+    const double floor = std::max(-support(ints, floats, w.nvec, w.point, w.wit), 0.0) / dot(r, r);
+    return {false, Shot{}, 0, floor, calls + 1};
+}
+
+}  // namespace gjk_based_detail
+
+// Section 3.1: b_k outside A walks down the ray, stopped by Fig. 3b's rule (`walk`).
+//
+// Whether the ray meets A beyond the origin is decided first, as every other procedure decides
+// it: ZC from the origin (section 3.3, `start`) finds r in CO(A), with a point t_lo r of A
+// (t_lo > 0), or a direction n with h_A(n) <= 0 < n^T r, which certifies a miss and a ray that
+// leaves A at the origin alike. The paper's own miss tests cannot tell the latter from a hit:
+// with the origin in A, max(-h_A(-r), 0) = 0 and eq. (4) walks down to t = 0, where GJK's
+// rounding floor, relative to A's size, takes t r for a point of A. The walk stays above t_lo,
+// its floor: a crossing below it is rounding, and the bracket [t_lo, t_upper] is finished from
+// there.
+Shot gjk_based(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter) {
+    using namespace gjk_based_detail;
+    const Int n = r.n;
+    Array Pz(n + 2, n), Wz(n + 2, ws), lz(n + 2);
+    Start s = start(ints, floats, r, ws, max_iter, Pz.mat(), Wz.mat(), lz.vec());
+    if (s.decided) return std::move(s.shot);
+    // ZC's call is the first iteration
+    return walk(ints, floats, r, ws, eps, max_iter, Pz.mat(), Wz.mat(), lz.vec(), s.kz, s.t, 1,
+                s.calls);
 }
 
 }  // namespace gf

@@ -242,6 +242,8 @@ Shot ie_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Mat
     double h = 0.0;
     double ny = 1.0;
     Int singular = 0;
+    bool queried = false;  // a support call of this loop bounds t from above
+    bool closed = false;   // and its stopping rule held
     while (it < max_iter) {
         // the facet of F_k nearest the origin: largest ||y||
         best = 0;
@@ -258,7 +260,11 @@ Shot ie_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Mat
         h = support(ints, floats, nvec, point, wit);
         calls += 1;
         it += 1;
-        if (h - 1.0 / ny <= eps / ny) break;
+        queried = true;
+        if (h - 1.0 / ny <= eps / ny) {
+            closed = true;
+            break;
+        }
         if (npts == cap_pts)
             return ie_result(LIMIT, t, pool, pwit, C.f(best), C.gam(best), nvec, h, ny, r, it,
                              calls, singular);
@@ -368,9 +374,15 @@ Shot ie_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Mat
         std::copy(C2.Y.data.begin(), C2.Y.data.begin() + nf * n, C.Y.data.begin());
         std::copy(C2.GAM.data.begin(), C2.GAM.data.begin() + nf * n, C.GAM.data.begin());
     }
-    const Int status = it <= max_iter && h - 1.0 / ny <= eps / ny ? HIT : LIMIT;
-    return ie_result(status, t, pool, pwit, C.f(best), C.gam(best), nvec, h, ny, r, it, calls,
-                     singular);
+    if (!queried) {
+        // no step was left (the facet came on the last allowed iteration, or max_iter is 0):
+        // t is certified from below by the facet, and no hyperplane bounds it from above
+        Face fc = face(pool, pwit, C.f(0), C.gam(0), t);
+        return make_result(LIMIT, t, INF, 0.0, it, calls, nvec, fc.V.mat(), fc.lam.vec(),
+                           fc.W.mat(), fc.k, singular);
+    }
+    return ie_result(closed ? HIT : LIMIT, t, pool, pwit, C.f(best), C.gam(best), nvec, h, ny, r,
+                     it, calls, singular);
 }
 
 }  // namespace gf

@@ -365,6 +365,33 @@ NewtonOut newton_finish(IVec ints, Vec f, Vec r, double eps, Mat P, Mat Wt, Vec 
             continue;
         }
         if (converged) {
+            // a flat leaf in several pieces (a summand's body in more than one piece of the
+            // face): the point equation holds only sum_p lam_p x_p, which the basic solution
+            // splits freely (one copy just outside the body, another inside: W_Linf of two
+            // point contacts at the edge of their cones); each copy takes their weighted mean,
+            // and its piece's point is evaluated again
+            for (Int e = 0; e < fl.nf; ++e) {
+                const Int leaf = fleaf[e];
+                const Int w = ints[B.WSTART + leaf];
+                Int copies = 0;
+                double lsum = 0.0;
+                for (Int b = 0; b < fq[e]; ++b) xbar[b] = 0.0;
+                for (Int g = 0; g < fl.nf; ++g) {
+                    if (fleaf[g] != leaf) continue;
+                    copies += 1;
+                    lsum += lm[fpiece[g]];
+                    for (Int b = 0; b < fq[e]; ++b)
+                        xbar[b] += lm[fpiece[g]] * PW(fpiece[g], w + 1 + b);
+                }
+                if (copies < 2 || !(lsum > 0.0)) continue;
+                for (Int g = 0; g < fl.nf; ++g) {
+                    if (fleaf[g] != leaf) continue;
+                    for (Int b = 0; b < fq[e]; ++b) PW(fpiece[g], w + 1 + b) = xbar[b] / lsum;
+                    const Int p = fpiece[g];
+                    piece::piece_support(ints, f, u, PW.row(p), Sm.row(p), WSm.row(p),
+                                         JJ.rows_range(p * n, (p + 1) * n), jw, nmax);
+                }
+            }
             // certify: flat points inside their bodies, weights on the ray, the full support
             Int outside = -1;
             for (Int e = 0; e < fl.nf; ++e)
@@ -406,7 +433,7 @@ NewtonOut newton_finish(IVec ints, Vec f, Vec r, double eps, Mat P, Mat Wt, Vec 
             const double h_full = support(ints, f, nrm, point, wit);
             calls += 1;
             const double t_up = h_full / dot(nrm, r);
-            if (t_up - tz <= eps * tz && t_up >= tz * (1.0 - 1e-12))
+            if (t_up - tz <= eps * tz && t_up >= tz * (1.0 - face_rounding(Sm, m, h_full)))
                 return {true, tz, std::max(t_up, tz), h_full, m, steps, calls, std::move(nrmA),
                         std::move(S), std::move(lmA), std::move(WS)};
             // a piece the system did not hold sticks out at u: it joins with weight 0

@@ -20,13 +20,11 @@ namespace gf {
 // always certify: docs/core-api.md, "Numerical floor")
 constexpr double STALL_FLOOR = 1e-11;
 
-// a hit's t_upper = h_A(n) / n^T r below t by at most this (relative) is rounding: the ray left
-// through an exact face of A, whose hyperplane is the facet's own, and the bracket closes at t
-constexpr double FACE_ROUNDING = 1e-12;
-
-// t_upper as a result reports it: a hit's, below t by at most FACE_ROUNDING, is t.
-double reported_upper(Int status, double t, double t_up) {
-    if (status == HIT && t * (1.0 - FACE_ROUNDING) <= t_up && t_up < t) return t;
+// A hit's t_upper = h_A(n) / n^T r below t by at most `face_rounding` (relative) is rounding:
+// the ray left through an exact face of A, whose hyperplane is the facet's own, and the bracket
+// closes at t.
+double reported_upper(Int status, double t, double t_up, double rho) {
+    if (status == HIT && t * (1.0 - rho) <= t_up && t_up < t) return t;
     return t_up;
 }
 
@@ -37,7 +35,7 @@ Shot make_result(Int status, double t, double t_up, double h_n, Int iters, Int c
     Shot out;
     out.status = status;
     out.t = t;
-    out.t_up = reported_upper(status, t, t_up);
+    out.t_up = reported_upper(status, t, t_up, face_rounding(P, k, h_n));
     out.h_n = h_n;
     out.iters = iters;
     out.calls = calls;
@@ -70,11 +68,8 @@ Int keep(Mat P, Mat Wt, Vec lam, Int k, Mat Pz, Mat Wz, Vec lz, Int changed) {
 }
 
 // Whether lam[:k] are convex weights (>= -tol, summing to 1 within tol) of the rows P[:k] that
-// reproduce t r (written to b) to tol relative,
-// or to the sum's own rounding, 1e-14 sum_j lam_j ||P_j|| (about 50 unit roundoffs; it matters
-// where the origin is near A's boundary and t r is far shorter than the points that make it:
-// the paper's sphere at lambda = 1e-5). The point on the ray is then in A to that accuracy.
-// Relative, unlike `reproduce`'s floor: A's units do not matter.
+// reproduce t r (written to b) to tol relative, or to the rounding of their sum (`on_point`).
+// The point on the ray is then in A to that accuracy. Relative: A's units do not matter.
 bool holds(Mat P, Vec lam, Int k, double t, Vec r, Vec b, double tol) {
     // a convex combination: weights >= 0 summing to 1, to tol
     double total = 0.0;
@@ -84,16 +79,35 @@ bool holds(Mat P, Vec lam, Int k, double t, Vec r, Vec b, double tol) {
     }
     if (!(std::abs(total - 1.0) <= tol)) return false;
     for (Int i = 0; i < r.n; ++i) b[i] = t * r[i];
-    const std::pair<double, double> rb = residual2(P, lam, k, b);
-    const double res = rb.first, bb = rb.second;
-    if (res <= tol * tol * bb) return true;
-    double mass = 0.0;
-    for (Int j = 0; j < k; ++j) {
-        double pp = 0.0;
-        for (Int i = 0; i < P.cols; ++i) pp += P(j, i) * P(j, i);
-        mass += std::abs(lam[j]) * std::sqrt(pp);
+    return on_point(P, lam, k, b, tol);
+}
+
+// A hit only with its certificate, whatever procedure made it: t r the convex combination of
+// the record's points to point_holds(eps) (`holds`; the weights, nonnegative, are scaled to sum to 1:
+// an IE facet solved afresh gives t = 1 / y^T r and weights summing to 1 only to the solve's
+// accuracy) and its bracket t <= t_upper <= (1 + eps) t. A hit without one is the LIMIT it is,
+// its bracket [min(t, t_upper), t_upper].
+Shot certify(Shot out, Vec r, double eps) {
+    if (out.status != HIT) return out;
+    const double tol = point_holds(eps);
+    Array b(r.n);
+    const double t = out.t, t_up = out.t_up;
+    const Vec lam = out.lam.vec();
+    double sum = 0.0;
+    bool nonnegative = true;
+    for (Int j = 0; j < lam.n; ++j) {
+        nonnegative = nonnegative && lam[j] >= 0.0;
+        sum += lam[j];
     }
-    return res <= 1e-28 * mass * mass;
+    if (nonnegative && std::abs(sum - 1.0) <= tol)
+        for (Int j = 0; j < lam.n; ++j) lam[j] /= sum;
+    if (t > 0.0 && t <= t_up && t_up - t <= eps * t && nonnegative &&
+        std::abs(sum - 1.0) <= tol &&
+        holds(out.V.mat(), lam, out.k(), t, r, b.vec(), tol))
+        return out;
+    out.status = LIMIT;
+    out.t = std::min(t, t_up);
+    return out;
 }
 
 }  // namespace gf

@@ -142,7 +142,7 @@ Shot shoot_with_table(IVec ints, Vec floats, Vec r, Int ws, Int method, double e
                 out = zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, n, 0, 0, B,
                               B.top(0));
             }
-            return unstall(ints, floats, r, ws, eps, max_iter, std::move(out));
+            return unstall(ints, floats, r, ws, eps, max_iter, certify(std::move(out), r, eps));
         }
     }
     return shoot(ints, floats, r, ws, method, eps, max_iter);

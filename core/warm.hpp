@@ -158,9 +158,10 @@ inline Head warm_shot(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_
     if (t <= 0.0) return {PROBES_MISSED, 0.0, 0.0, 0.0, 0, calls, 0, 0};
     // ZC-IE's steps from the probes' facet, with their unit directions for IE's secant query;
     // no facet inverse to hand over
-    return pack(zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, t, pa.rows.top(n + 2),
-                        pa.witnesses.top(n + 2), pa.lam, n, 0, calls, Mat{},
-                        pa.rows.rows_from(n + 8)),
+    return pack(certify(zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, t,
+                                pa.rows.top(n + 2), pa.witnesses.top(n + 2), pa.lam, n, 0, calls,
+                                Mat{}, pa.rows.rows_from(n + 8)),
+                        r, eps),
                 packed, e);
 }
 
@@ -180,7 +181,8 @@ Head shoot_warm(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, 
     if (head.status >= 0) return head;
     // PROBES_MISSED: cold ZC-IE, the probes' support calls counted
     const Int calls = head.calls;
-    Head out = pack(zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE), packed, e);
+    Head out = pack(certify(zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE), r, eps),
+                    packed, e);
     out.calls += calls;
     return out;
 }

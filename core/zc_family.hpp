@@ -55,6 +55,35 @@ inline DistOut zc_step(IVec ints, Vec floats, Vec r, double t, Mat P, Mat Wt, Ve
     return zc(ints, floats, b, r, P, Wt, lam, k, eps, 0.0, max_iter, nvec, v, point, wit, sc);
 }
 
+// A stalled ZC's normal at the origin made orthogonal to the span of its generators P[:k]: they
+// span the face of CO(A) nearest r, whose hyperplane through the origin a miss certificate's is,
+// and rounding in ZC's large weights leaves the normal off it by ~1e-16 of their mass (h_A(n)
+// ~1e-11 for two point contacts whose wrench is off their grasp map's span). The new normal
+// goes to `m` and h_A(m) is returned, or NaN when m^T r is not positive or the span is
+// degenerate (one support call, counted in `calls`).
+inline double polish_normal(IVec ints, Vec floats, Vec r, Mat P, Int k, Vec nvec, Vec m,
+                            Vec point, Vec wit, const Scratch& sc, Int& calls) {
+    const Int n = r.n;
+    if (k < 1 || k >= n) return std::numeric_limits<double>::quiet_NaN();
+    for (Int i = 0; i < n; ++i)
+        for (Int j = 0; j < k; ++j) sc.D(i, j) = P(j, i);
+    if (!lstsq(sc.D, n, k, nvec, sc.x, 0, sc.work, sc.wrhs))
+        return std::numeric_limits<double>::quiet_NaN();
+    double mm = 0.0;
+    for (Int i = 0; i < n; ++i) {
+        double s = nvec[i];
+        for (Int j = 0; j < k; ++j) s -= sc.x[j] * P(j, i);
+        m[i] = s;
+        mm += s * s;
+    }
+    if (!(mm > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+    const double inv = 1.0 / std::sqrt(mm);
+    for (Int i = 0; i < n; ++i) m[i] *= inv;
+    if (!(dot(m, r) > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+    calls += 1;
+    return support(ints, floats, m, point, wit);
+}
+
 // M = [P_0 .. P_{n-1}]: the facet's points as columns.
 [[gnu::always_inline]] inline void facet_matrix(Mat P, Int n, Mat M) {
     for (Int j = 0; j < n; ++j)
@@ -575,12 +604,27 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
         if (st == MAX_ITER) break;
         if (t == 0.0) {
             // CONVERGED here means h_A(n) <= 0 < n^T r: a certified miss. STALLED means r lies
-            // on the boundary of CO(A) to rounding: the ray at most grazes A, reported a miss.
-            code = MISS;
-            t_up = 0.0;
+            // on the boundary of CO(A) to the cone's rounding: a miss while h_A(n) is rounding
+            // (the ray at most grazes A), else no more than the bracket [0, h_A(n) / n^T r]
             h_n = h;
             kz = 0;
             singular = 0;
+            if (st == STALLED && h > 0.0) {
+                const double hm = polish_normal(ints, floats, r, P, k, nvec, v, point, wit, sc,
+                                                calls);
+                if (hm <= h) {
+                    for (Int i = 0; i < n; ++i) nvec[i] = v[i];
+                    h_n = h = hm;
+                }
+            }
+            const double nr = dot(nvec, r);
+            if (st == CONVERGED || miss_to_rounding(h, P, k)) {
+                code = MISS;
+                t_up = 0.0;
+            } else {
+                code = LIMIT;
+                t_up = nr > 0.0 ? h / nr : INF;
+            }
             break;
         }
         // converged (or stalled): z = b_k, supported by H(n, s_A(n)). A stall certifies nothing

@@ -103,11 +103,12 @@ class Grasp:
             return self._without_forces(space, "optimal", 0.0, method, None)
         sigma = packed.item(0)
         ray = (A, w_ext, head, packed, extra)
-        if status == MISS or (status == HIT and sigma == math.inf):
-            # a separating hyperplane, or a ray that leaves W at the origin: no finite forces
+        if status == MISS:
+            # a separating hyperplane (or a ray that leaves W at the origin): no finite forces
             return self._without_forces(space, "infeasible", math.inf, method, ray, t_scale)
         if sigma == math.inf:
             return self._without_forces(space, "max_iter", math.inf, method, ray, t_scale)
+        # "optimal" only with the certificate the compiled call checked (core/forces.hpp)
         return MinForce.from_packed("optimal" if status == HIT else "max_iter", sigma,
                                     1.0 / (t_scale * head[2]), norm, magnitude, method, ray,
                                     len(self.contacts))

@@ -102,7 +102,8 @@ class Target:
     (= m) times W_Linf's. maps: id(leaf) -> (contact, base, map) for the leaves of the
     contacts' sets (the others are origins: no force)."""
 
-    def __init__(self, shot_set, maps, t_scale, contact_matrices, linf, full, spin_weight):
+    def __init__(self, shot_set, maps, t_scale, contact_matrices, linf, full, spin_weight,
+                 friction):
         self.set = shot_set
         self.t_scale = t_scale
         table, forces_map = self._table(maps)
@@ -115,7 +116,7 @@ class Target:
         ints, floats = self.set.program
         self.compiled_args = (ints, floats, force_reader(self.set.witness_size, linf, full,
                                                          contact_matrices, table, forces_map,
-                                                         spin_weight))
+                                                         spin_weight, friction))
 
     def _table(self, maps):
         """(table (4, leaves), maps): per leaf its contact (-1 for an origin), the start of its
@@ -162,8 +163,9 @@ def generic_target(contacts, norm, magnitude, contact_matrices, spin_weight, lif
     linf = norm == "Linf"
     parts, maps = _root_children(contacts, magnitude, lifted, linf)
     shot_set = minkowski_sum(*parts) if linf and not lifted else hull(*parts)
+    friction = np.array([(c.mu, c.mu_spin) for c in contacts], dtype=float)
     return Target(shot_set, maps, len(contacts) if lifted else 1, contact_matrices, linf,
-                  magnitude == "full", spin_weight)
+                  magnitude == "full", spin_weight, friction)
 
 
 class _ContactsRoot:
@@ -242,11 +244,11 @@ class _Template:
         leaves = int(reader[4])
         table = reader[5:5 + 4 * leaves].reshape(4, -1).astype(np.int64)
         g_start = 5 + 4 * leaves
-        maps_start = g_start + 25 * m
-        # the reader's G_i and spin weights, copied
-        read_dst = list(range(g_start, g_start + 24 * m)) + list(range(g_start + 24 * m,
-                                                                         maps_start))
-        read_src = list(range(24 * m)) + [coef(i, _SPIN_WEIGHT) for i in range(m)]
+        maps_start = g_start + 27 * m
+        # the reader's G_i, spin weights and friction coefficients (mu, then mu_s), copied
+        read_dst = list(range(g_start, maps_start))
+        read_src = (list(range(24 * m)) + [coef(i, _SPIN_WEIGHT) for i in range(m)]
+                    + [coef(i, _MU) for i in range(m)] + [coef(i, _MU_SPIN) for i in range(m)])
         for i, (part, kind) in enumerate(zip(children(ints, 0), kinds)):
             # the contact's W_i: the root's child, or its child under a lift's embedding, or
             # the second child of a sum's hull of the origin and W_i

@@ -817,3 +817,197 @@ def min_force_socp(contacts, w_ext, norm, magnitude, equal=False, tol=1e-11):
     # dual objective -b^T z = w^T z_eq: with r = -w, u = -z_eq gives u.r = the dual value
     u = -np.array(sol.z)[:6]
     return "optimal", float(sol.obj_val), forces, u
+
+
+# ----------------------------------------------------------------------------------------------
+# resistibility with a margin: which wrenches a grasp resists at all, whatever the forces' size
+# ----------------------------------------------------------------------------------------------
+def _solve_blocks(nvar, q, blocks, tol=1e-10):
+    """Clarabel on b - A x in the cones of `blocks` [(cone, rows as dicts {var: coef}, b)],
+    minimizing q^T x. Returns (status, x)."""
+    rows, cols, vals, b, cones = [], [], [], [], []
+    for cone, brows, bb in blocks:
+        for row, bv in zip(brows, bb):
+            for col, v in row.items():
+                rows.append(len(b))
+                cols.append(col)
+                vals.append(v)
+            b.append(bv)
+        cones.append(cone)
+    A = sp.csc_matrix((vals, (rows, cols)), shape=(len(b), nvar))
+    st = clarabel.DefaultSettings()
+    st.verbose = False
+    st.max_iter = 500
+    st.tol_gap_abs = st.tol_gap_rel = st.tol_feas = tol
+    sol = clarabel.DefaultSolver(sp.csc_matrix((nvar, nvar)), np.asarray(q, dtype=float), A,
+                                 np.array(b), cones, st).solve()
+    return str(sol.status), np.array(sol.x)
+
+
+def _absent_components(contacts):
+    """Equality rows f_ib = 0 for the components a contact does not have."""
+    rows = []
+    for i, (_, mu, ms) in enumerate(contacts):
+        for b in sorted(set(range(4)) - set(_contact_dims(mu, ms))):
+            rows.append({4 * i + b: 1.0})
+    return rows
+
+
+def cone_slack(f, mu, mu_s):
+    """The radius of the largest ball, in the contact's own components, around f inside F_i of
+    eq. (12) (negative outside): for the circular cone of half-angle atan(mu), the distance to
+    its boundary is (mu f_1 - ||f_t||) / sqrt(1 + mu^2); a soft finger's cone is circular in
+    g = (f_1, f_2, f_3, (mu / mu_s) f_4), and a ball of radius s in f maps into one of radius
+    s max(1, mu / mu_s) in g."""
+    if mu == 0.0:
+        return float(f[0])
+    if mu_s == 0.0:
+        return float((mu * f[0] - np.hypot(f[1], f[2])) / np.sqrt(1.0 + mu * mu))
+    g = np.array([f[0], f[1], f[2], f[3] * mu / mu_s])
+    return float((mu * g[0] - np.linalg.norm(g[1:])) / np.sqrt(1.0 + mu * mu)
+                 / max(1.0, mu / mu_s))
+
+
+FORCE_CAP = 1e3   # resist_depth's bound on the sum of normal forces, for a unit wrench
+POLAR_TOL = 1e-12   # h_{W_i}(u) <= this (||u|| = 1, G_i of unit size): u is in K's polar cone
+
+
+def resist_depth(contacts, x):
+    """A lower bound on the depth of x inside K = {sum_i G_i f_i : f_i in F_i}, the cone of
+    wrenches the contacts produce: the radius of a ball around x inside K, or a negative number
+    when none is proven. Forces f with sum_i G_i f_i = x and every f_i inside F_i with slack s
+    (a ball of radius s in its own components: `cone_slack`) absorb any change v of x with
+    ||v|| <= s sigma_min(G_c) (G_c: the grasp map on the components the contacts have), so that
+    is a depth; the forces maximize s (capped at 1: force closure makes it unbounded) in an SOCP,
+    their normal forces summing to at most FORCE_CAP (so that the residual recomputed here from
+    them, and the rounding of that, stay meaningful), and a grasp map of numerical rank < 6 (a
+    pinch transmits no torque about its axis) has no interior: no depth."""
+    m = len(contacts)
+    s = 4 * m
+    eq = [{4 * i + b: G[a, b] for i, (G, _, _) in enumerate(contacts) for b in range(4)
+           if G[a, b] != 0.0} for a in range(6)]
+    eqb = list(x)
+    absent = _absent_components(contacts)
+    blocks = [(clarabel.ZeroConeT(6 + len(absent)), eq + absent, eqb + [0.0] * len(absent)),
+              (clarabel.NonnegativeConeT(2), [{s: 1.0}, {4 * i: 1.0 for i in range(m)}],
+               [1.0, FORCE_CAP])]
+    for i, (_, mu, ms) in enumerate(contacts):
+        dims = _contact_dims(mu, ms)
+        if len(dims) == 1:
+            blocks.append((clarabel.NonnegativeConeT(1), [{4 * i: -1.0, s: 1.0}], [0.0]))
+            continue
+        c = np.sqrt(1.0 + mu * mu) * (max(1.0, mu / ms) if ms > 0.0 else 1.0)
+        scale = [mu, 1.0, 1.0, mu / ms if ms > 0.0 else 0.0]
+        rows = [{4 * i: -mu, s: c}] + [{4 * i + b: -scale[b]} for b in dims[1:]]
+        blocks.append((clarabel.SecondOrderConeT(len(dims)), rows, [0.0] * len(dims)))
+    q = np.zeros(s + 1)
+    q[s] = -1.0
+    status, sol = _solve_blocks(s + 1, q, blocks)
+    if not _status_ok(status):
+        return -np.inf
+    forces = sol[:s].reshape(m, 4)
+    for i, (_, mu, ms) in enumerate(contacts):
+        forces[i, [b for b in range(4) if b not in _contact_dims(mu, ms)]] = 0.0
+    Gc = np.hstack([G[:, _contact_dims(mu, ms)] for G, mu, ms in contacts])
+    sv = np.linalg.svd(Gc, compute_uv=False)
+    if Gc.shape[1] < 6 or sv[5] <= 1e-10 * sv[0]:
+        return 0.0
+    wrenches = np.array([G @ f for (G, _, _), f in zip(contacts, forces)])
+    residual = np.linalg.norm(wrenches.sum(axis=0) - x)
+    rounding = 1e-14 * np.linalg.norm(wrenches, axis=1).sum()
+    slack = min(cone_slack(f, mu, ms) for f, (_, mu, ms) in zip(forces, contacts))
+    return float(slack * sv[5] - residual - rounding)
+
+
+def cone_polar_excess(contacts, u):
+    """max_i h_{W_i}(u) over the contacts' sets at unit normal force (NOTES.md item 3): <= 0
+    iff u^T w <= 0 for every wrench w the contacts produce."""
+    return float(max(G[:, 0] @ u + np.sqrt(mu * mu * ((G[:, 1] @ u) ** 2 + (G[:, 2] @ u) ** 2)
+                                           + ms * ms * (G[:, 3] @ u) ** 2)
+                     for G, mu, ms in contacts))
+
+
+def polar_polish(contacts, u, steps=30, tol=1e-14):
+    """u moved into the polar cone {u : h_{W_i}(u) <= 0 for every contact} (to tol, relative
+    to ||u|| = 1) by Newton steps on the contacts' supports h_{W_i}(u) = y_1 + ||D y_t||,
+    y = G_i^T u, whose gradient is G_i (1, D^2 y_t / ||D y_t||) (the support point of W_i):
+    the shortest step that zeroes every support not clearly negative, by least squares (one
+    contact at a time stalls where two cones meet at a small angle, a pinch's wedge); None if
+    that fails. A conic solver's dual direction violates the cone by ~1e-8, which a pinch's
+    internal forces (unbounded along a line) would make worthless as a certificate."""
+    u = np.asarray(u, dtype=float) / np.linalg.norm(u)
+    for _ in range(steps):
+        rows, hs = [], []
+        for G, mu, ms in contacts:
+            y = G.T @ u
+            d2 = np.array([0.0, mu * mu, mu * mu, ms * ms])
+            q = np.sqrt(np.sum(d2 * y * y))
+            h = y[0] + q
+            if h > -1e-6:
+                rows.append(G @ (np.r_[1.0, 0.0, 0.0, 0.0] + (d2 * y / q if q > 0.0 else 0.0)))
+                hs.append(h + 1e-15)
+        if not hs or max(hs) <= tol:
+            return u
+        step = np.linalg.lstsq(np.array(rows), -np.array(hs), rcond=None)[0]
+        u = u + step
+        u = u / np.linalg.norm(u)
+    return u if cone_polar_excess(contacts, u) <= POLAR_TOL else None
+
+
+def resist_projection(contacts, x):
+    """(p, u): the wrench p of K nearest x (an SOCP) and the unit u = (x - p) / ||x - p||
+    (None when x is in K to the solver's accuracy)."""
+    m = len(contacts)
+    tau = 4 * m
+    absent = _absent_components(contacts)
+    blocks = [(clarabel.ZeroConeT(len(absent)), absent, [0.0] * len(absent))] if absent else []
+    for i, (_, mu, ms) in enumerate(contacts):
+        dims = _contact_dims(mu, ms)
+        if len(dims) == 1:
+            blocks.append((clarabel.NonnegativeConeT(1), [{4 * i: -1.0}], [0.0]))
+        else:
+            scale = [mu, 1.0, 1.0, mu / ms if ms > 0.0 else 0.0]
+            blocks.append((clarabel.SecondOrderConeT(len(dims)),
+                           [{4 * i + b: -scale[b]} for b in dims], [0.0] * len(dims)))
+    rows = [{tau: -1.0}] + [{4 * i + b: G[a, b] for i, (G, _, _) in enumerate(contacts)
+                             for b in range(4) if G[a, b] != 0.0} for a in range(6)]
+    blocks.append((clarabel.SecondOrderConeT(7), rows, [0.0] + list(x)))
+    q = np.zeros(tau + 1)
+    q[tau] = 1.0
+    status, sol = _solve_blocks(tau + 1, q, blocks)
+    forces = sol[:tau].reshape(m, 4)
+    p = sum(G @ f for (G, _, _), f in zip(contacts, forces))
+    g = np.asarray(x, dtype=float) - p
+    dist = np.linalg.norm(g)
+    return p, (g / dist if dist > 0.0 else None)
+
+
+def resist_margin(contacts, w_ext):
+    """Whether the contacts resist w_ext (some forces in the cones of eq. 12 give
+    sum_i G_i f_i = -w_ext, eq. 11), with a margin, for x = -w_ext / ||w_ext||: the depth of x
+    in K (> 0: `resist_depth`), or minus its distance from K (< 0: a unit u with
+    h_{W_i}(u) <= 0 for every contact, so that u^T w <= 0 on K, and u^T x > 0, a distance
+    recomputed here with truth's support after `polar_polish`, or the direction of x off the
+    grasp map's span), or 0 when neither is proven (x on K's boundary to
+    the solvers' accuracy). Independent of the objective: K is the same for every norm and
+    magnitude."""
+    x = -np.asarray(w_ext, dtype=float)
+    x = x / np.linalg.norm(x)
+    depth = resist_depth(contacts, x)
+    if depth > 0.0:
+        return depth
+    distance = 0.0
+    # x off the span of the grasp map (a pinch transmits no torque about its axis): the
+    # residual's direction u has G_i^T u = 0, h_{W_i}(u) = 0 to rounding, whatever the forces
+    Gc = np.hstack([G[:, _contact_dims(mu, ms)] for G, mu, ms in contacts])
+    coef = np.linalg.lstsq(Gc, x, rcond=1e-10)[0]
+    off = x - Gc @ coef
+    if np.linalg.norm(off) > 0.0:
+        u = off / np.linalg.norm(off)
+        if cone_polar_excess(contacts, u) <= POLAR_TOL:
+            distance = max(distance, float(u @ x))
+    _, u = resist_projection(contacts, x)
+    u = None if u is None else polar_polish(contacts, u)
+    if u is not None:
+        distance = max(distance, float(u @ x))
+    return -distance
