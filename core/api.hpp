@@ -186,8 +186,6 @@ Shot make_result(Int status, double t, double t_up, double h_n, Int iters, Int c
 Int keep(Mat P, Mat Wt, Vec lam, Int k, Mat Pz, Mat Wz, Vec lz, Int changed = -1);
 // Python's _holds: whether lam[:k] of P[:k] reproduce t r (written to b) to tol relative
 bool holds(Mat P, Vec lam, Int k, double t, Vec r, Vec b, double tol);
-constexpr double FACET_HOLDS = 1e-12;   // holds: an IE step's facet weights
-constexpr double POINT_HOLDS = 1e-9;    // holds: ZC's and Bi-GJK's final point
 // the tolerance a final point is held to: POINT_HOLDS, or eps where it is tighter (a point off the
 // ray by more than eps t would widen the certified bracket beyond eps), not below FACET_HOLDS
 inline double point_holds(double eps) { return std::min(POINT_HOLDS, std::max(eps, FACET_HOLDS)); }
