@@ -23,6 +23,8 @@ from scipy.spatial import ConvexHull, QhullError
 
 from .results import GraspQuality
 
+FLAT = 1e-13       # W's extent along a normal below this fraction of its largest width is rounding
+
 
 def facet_expansion(W, eps, tol, max_iter, stop_at_closure):
     """(force_closure, lower, upper, direction, iterations, support_calls) for the set W."""
@@ -37,30 +39,39 @@ def facet_expansion(W, eps, tol, max_iter, stop_at_closure):
             upper, direction = h, axis
     calls = 2 * n
     widths = np.ptp(np.asarray(points), axis=0)
-    tol = tol * max(widths.max(), 1e-300)
-    if upper <= tol:
+    # tol is relative to W's extent along each normal, |widths * u|: the answer then does not
+    # change when W is scaled, as a whole or per coordinate (a grasp's torques scale with its
+    # lengths, its forces do not); the floor keeps a W that is flat up to rounding flat
+    floor = FLAT * max(widths.max(), 1e-300)
+
+    def tol_along(u):
+        return tol * max(math.sqrt(float(np.dot(widths * u, widths * u))), floor)
+
+    if upper <= tol_along(direction):
         return False, 0.0, 0.0, direction, 0, calls
-    inner, flat, calls = _initial_polytope(W, points, widths, calls, tol)
+    inner, flat, calls = _initial_polytope(W, points, widths, calls, tol_along)
     if inner is None:
         return False, 0.0, 0.0, flat, 0, calls
     lower = -math.inf
+    inside = False
     for iteration in range(1, max_iter + 1):
         normals, offsets = inner.facets()
         nearest = int(np.argmin(offsets))           # the facet nearest the origin
         u = normals[nearest]
         lower = offsets[nearest]                    # P only grows, so this never decreases
-        if lower > tol and stop_at_closure:
+        inside = lower > tol_along(u)
+        if inside and stop_at_closure:
             return True, lower, upper, direction, iteration, calls
         h, s = W.support(u)
         calls += 1
         if h < upper:
             upper, direction = h, u.copy()
-        if upper <= tol:
+        if h <= tol_along(u) or upper <= tol_along(direction):
             return False, 0.0, 0.0, direction, iteration, calls
-        if lower > tol and upper - lower <= eps * upper:
+        if inside and upper - lower <= eps * upper:
             return True, lower, upper, direction, iteration, calls
         inner.add(s)
-    return lower > tol, max(lower, 0.0), upper, direction, max_iter, calls
+    return inside, max(lower, 0.0), upper, direction, max_iter, calls
 
 
 class _InnerPolytope:
@@ -91,26 +102,29 @@ class _InnerPolytope:
                                    qhull_options="Qt Qx Q12")
 
 
-def _initial_polytope(W, points, widths, calls, tol):
+def _initial_polytope(W, points, widths, calls, tol_along):
     """(P, None, calls), or (None, u, calls) with h_W(u) + h_W(-u) <= tol when W is flat.
 
     The axis supports can span less than R^n although W does not (coincident support points);
     the normal v of their affine span then either has a width h_W(v) + h_W(-v) > tol, and its two
     support points extend the span, or W is flat along v and the origin cannot be interior."""
     n = W.dim
+    # the span is judged in coordinates scaled to unit widths, as Qhull sees the points
+    scale = 1.0 / np.where(widths > 0.0, widths, 1.0)
     while True:
-        arr = np.asarray(points)
+        arr = np.asarray(points) * scale
         _, sv, vt = np.linalg.svd(arr - arr.mean(axis=0))
         if len(sv) >= n and sv[n - 1] > 1e-9 * max(sv[0], 1e-300):
             try:
                 return _InnerPolytope(points, widths), None, calls
             except QhullError:
                 pass                        # nearly flat for Qhull: widen along the thinnest axis
-        v = vt[-1] if len(sv) < n else vt[n - 1]
+        v = (vt[-1] if len(sv) < n else vt[n - 1]) * scale     # the span's normal, unscaled
+        v = v / np.linalg.norm(v)
         h_plus, s_plus = W.support(v)
         h_minus, s_minus = W.support(-v)
         calls += 2
-        if h_plus + h_minus <= tol:
+        if h_plus + h_minus <= tol_along(v):
             return None, v if h_plus <= h_minus else -v, calls
         points.extend((s_plus, s_minus))
 

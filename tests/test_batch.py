@@ -358,3 +358,10 @@ def test_cli_reads_wrench_files_and_plots(tmp_path):
     bad.write_text('{"contacts": [{"position": [0, 0], "normal": [1, 0, 0], "mu": 0.5}]}')
     res = _cli("batch", str(bad), "--generate", "ball", "-n", "10", "--out", str(tmp_path / "b.csv"))
     assert res.returncode == 2 and "contacts[0]: position" in res.stderr
+
+
+def test_min_force_batch_refuses_rows_of_another_width():
+    grasp = box_grasp()
+    for k in (5, 7, 12):
+        with pytest.raises(ValueError, match=r"wrenches: expected shape \(k, 6\)"):
+            grasp.min_force_batch(np.zeros((3, k)))

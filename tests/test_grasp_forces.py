@@ -280,8 +280,18 @@ def test_linf_literal_is_never_better(seed):
         w = random_wrench(rng)
         ours = grasp.min_force(w, norm="Linf")
         shot = gf.ray_shoot(literal_set, -w)
+        # every wrench decided against the SOCP: the literal set against its own (equal=True)
+        P = plain(grasp)
+        status, truth, _, _ = T.min_force_socp(P, w, "Linf", "normal")
+        assert ours.feasible == (status == "optimal")
+        if ours.feasible:
+            assert ours.status == "optimal"
+            assert abs(ours.sigma / truth - 1) <= SOCP_TOL
+        literal, literal_truth, _, _ = T.min_force_socp(P, w, "Linf", "normal", equal=True)
+        assert shot.hit == (literal == "optimal")
         if shot.hit:
             assert ours.feasible and ours.sigma <= (1.0 / shot.t) * (1 + 2 * EPS)
+            assert abs(1.0 / shot.t / literal_truth - 1) <= SOCP_TOL
 
 
 def test_linf_literal_is_exact_on_the_symmetric_sphere():
@@ -530,13 +540,14 @@ def test_answers_on_grasps_that_are_not_closure_certify_or_say_so(norm):
     # remains on corners that neither Newton nor GJK-based steps finish (measured with "zc-ie":
     # 3 of 60 wrenches for L1, 3 for Linf, none of them two point contacts; before the hand-over
     # to GJK-based, 4 for L1, and on an AMD EPYC one of them two point contacts).
-    from graspforce.baselines import clarabel_socp
     open_answers = 0
     for trial, grasp, lams, w, two_points in edge_of_cone_cases(60, weights_first=False):
         if two_points:
             truth, tol = (sum(lams) if norm == "L1" else max(lams)), 2e-9
         else:
-            truth, tol = clarabel_socp.min_force(grasp, w, norm=norm, tight=True).sigma, 1e-8
+            status, truth, _, _ = T.min_force_socp(plain(grasp), w, norm, "normal")
+            assert status == "optimal"
+            tol = 1e-8
         for method in ("zc-ie", "ie", "gjk", "bi-gjk"):
             res = grasp.min_force(w, norm=norm, method=method)
             assert res.feasible and res.status in ("optimal", "max_iter")
@@ -565,7 +576,18 @@ def test_corners_that_no_step_leaves_end_early():
         for method in ("zc-ie", "ie"):
             res = grasp.min_force(w, norm="Linf", method=method)
             assert res.status in ("optimal", "max_iter") and res.iterations < 1000
+            assert res.feasible
             if two_points:
                 assert res.sigma_lower <= max(lams) * (1 + 2e-9)
                 if res.status == "optimal":
                     assert res.sigma == pytest.approx(max(lams), rel=2e-9)
+            else:
+                # the other runs against the SOCP: a lower bound below it, an "optimal" answer
+                # on it and certified, its forces in their cones
+                status, truth, _, _ = T.min_force_socp(plain(grasp), w, "Linf", "normal")
+                assert status == "optimal"
+                assert res.sigma_lower <= truth * (1 + SOCP_TOL)
+                if res.status == "optimal":
+                    assert abs(res.sigma / truth - 1) <= SOCP_TOL
+                    assert certified_gap(grasp, w, res) <= 2e-9
+                    check_forces(grasp, w, res, residual_tol=1e-9)

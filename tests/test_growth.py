@@ -415,3 +415,21 @@ def test_bad_input():
         gf.growth_distance(box, (I, o), box, np.ones((4, 4)))
     with pytest.raises(ValueError, match="method"):
         gf.growth_distance(box, (I, o), box, (I, o + 3), method="newton")
+
+
+def test_origin_just_outside_or_inside_a_ball_is_decided_exactly():
+    # between the closed form's clear margins (CLEAR_INSIDE, CLEAR_OUTSIDE) facet expansion
+    # decides: a ball whose centre is 1.05 radii from the origin does not hold it, one at 0.95
+    # does; at every scale
+    for s in (1e-9, 1.0, 1e9):
+        with pytest.raises(ValueError, match="origin"):
+            gf.GrowthDistance(gf.Ball(np.array([1.05, 0.0, 0.0]) * s, s), gf.Ball(np.zeros(3), s))
+        with pytest.raises(ValueError, match="origin"):
+            gf.GrowthDistance(gf.Ball(np.zeros(3), s), gf.Ball(np.array([0.0, -1.1, 0.0]) * s, s))
+        inside = gf.Ball(np.array([0.0, 0.0, 0.95]) * s, s)
+        res = gf.growth_distance(inside, (np.eye(3), np.zeros(3)), gf.Ball(np.zeros(3), s),
+                                 (np.eye(3), np.array([0.0, 0.0, 4.0]) * s))
+        # A(sigma) is the ball of radius sigma s about 0.95 sigma s e_z, B(sigma) that about
+        # 4 s e_z: they touch where 4 - 0.95 sigma = 2 sigma
+        assert res.status == "separated"
+        assert res.sigma == pytest.approx(4.0 / 2.95, rel=1e-9)

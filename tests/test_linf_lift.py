@@ -10,6 +10,9 @@ from grasps import box_grasp
 import graspforce as gf
 from graspforce.wrench_space import LIFT_MAX_CONTACTS, LIFTED_METHODS
 
+# truth.min_force_socp's accuracy (tests/test_grasp_forces.py, SOCP_TOL)
+SOCP_TOL = 5e-8
+
 
 @pytest.mark.parametrize("magnitude", ["normal", "full"])
 def test_lift_meets_the_ray_where_the_sum_does(magnitude):
@@ -27,8 +30,12 @@ def test_lift_meets_the_ray_where_the_sum_does(magnitude):
             on_W = gf.ray_shoot(W, r, method="ie", eps=1e-12)
             on_C = gf.ray_shoot(C, np.concatenate((np.zeros(m - 1), r)), eps=1e-12)
             assert on_W.hit == on_C.hit
+            # the truth: an SOCP for the least Linf forces resisting -r (t = 1 / sigma)
+            status, truth, _, _ = T.min_force_socp(plain(grasp), -r, "Linf", magnitude)
+            assert on_W.hit == (status == "optimal")
             if on_W.hit:
                 hits += 1
+                assert abs(1.0 / (m * on_C.t) / truth - 1) <= SOCP_TOL
                 assert m * on_C.t == pytest.approx(on_W.t, rel=3e-12)
                 # the wrench part u of the lift's normal bounds W_Linf from outside: t <= h_W(u)
                 # / u.r <= m t'_upper (MinForce.shot)
@@ -56,6 +63,8 @@ def test_ie_does_not_repeat_a_vertex_at_the_numerical_floor():
     C = grasp._space("Linf", "full").target("zc-ie").set
     W = grasp.wrench_set("Linf", "full")
     truth = gf.ray_shoot(W, r, method="ie", eps=1e-12)
+    status, sigma, _, _ = T.min_force_socp(plain(grasp), -r, "Linf", "full")
+    assert status == "optimal" and abs(1.0 / truth.t / sigma - 1) <= SOCP_TOL
     gf.ray_shoot(C, np.concatenate((np.zeros(2), r)))     # the second shot builds the table
     gf.ray_shoot(C, np.concatenate((np.zeros(2), r)))
     for k in range(20):
@@ -89,6 +98,8 @@ def test_lift_halves_ie_steps_on_the_ingot():
         res = grasp.min_force(w, norm="Linf")
         on_W = gf.ray_shoot(W, -w)
         assert res.sigma == pytest.approx(1.0 / on_W.t, rel=2e-9)
+        status, truth, _, _ = T.min_force_socp(plain(grasp), w, "Linf", "normal")
+        assert status == "optimal" and abs(res.sigma / truth - 1) <= SOCP_TOL
         steps_W.append(on_W.iterations)
         steps_C.append(gf.ray_shoot(C, np.concatenate((np.zeros(3), -w))).iterations)
     assert np.median(steps_C) <= 0.6 * np.median(steps_W)
@@ -114,3 +125,5 @@ def test_second_order_finish_on_the_lift(magnitude):
                                 eps=1e-12)
             assert on_W.hit and on_C.hit
             assert m * on_C.t == pytest.approx(on_W.t, rel=3e-12)
+            status, truth, _, _ = T.min_force_socp(plain(grasp), -r, "Linf", magnitude)
+            assert status == "optimal" and abs(1.0 / (m * on_C.t) / truth - 1) <= SOCP_TOL

@@ -469,6 +469,8 @@ def test_rays_of_any_type_and_layout_agree():
     r = np.array([0.3, -1.0, 2.0])
     gf.ray_shoot(A, r)
     ref = gf.ray_shoot(A, r)        # the second shot and all that follow use the start table
+    hit, t, _ = T.ray_shoot_socp(T.hull(T.ball([0.2, 0.0, 0.1], 1.0), T.box([0.5, 1.5, 0.7])), r)
+    assert hit and ref.hit and abs(ref.t - t) <= 1e-8 * t
     frozen = r.copy()
     frozen.flags.writeable = False
     for same in (r.tolist(), tuple(r), frozen, np.repeat(r, 2)[::2], r.reshape(1, 3)[0],

@@ -1,0 +1,159 @@
+"""Units do not change answers: the same problems with lengths and forces scaled by 1e-9 and 1e9
+give answers scaled accordingly. Force closure is invariant (scaling lengths scales W's torque
+coordinates, an invertible linear map of R^6); the quality of a uniformly scaled W scales with
+it; min_force's sigma scales with the forces; the growth distance is scale-free. Tolerances
+inside the library must be relative to the problem's own size for any of this to hold."""
+import math
+
+import numpy as np
+import pytest
+import truth as T
+from grasp_cases import plain, random_grasp, random_wrench
+from grasps import box_grasp, two_finger_pinch
+
+import graspforce as gf
+from graspforce.quality import grasp_quality
+
+SCALES = [1e-9, 1e9]
+OBJECTIVES = [("L1", "normal"), ("Linf", "normal"), ("L1", "full"), ("Linf", "full")]
+
+
+def scaled_grasp(grasp, s):
+    """The grasp with every length (positions, the spin coefficient mu_s, in metres) times s."""
+    return gf.Grasp([gf.Contact(np.asarray(c.position) * s, c.normal, c.mu, c.mu_spin * s)
+                     for c in grasp.contacts])
+
+
+def scaled_wrench(w, length, force):
+    """A wrench in units scaled by `length` and `force`: forces times force, torques times both."""
+    w = np.asarray(w, dtype=float)
+    return np.concatenate((w[:3] * force, w[3:] * (length * force)))
+
+
+def closure_cases():
+    rng = np.random.default_rng(31)
+    grasps = [box_grasp(), two_finger_pinch()]
+    grasps += [random_grasp(rng, m, ("soft", "point")) for m in (2, 3, 3, 4, 4, 5, 6)]
+    return grasps
+
+
+@pytest.mark.parametrize("s", SCALES)
+def test_force_closure_does_not_depend_on_the_unit_of_length(s):
+    answers = []
+    for grasp in closure_cases():
+        base = grasp.is_force_closure()
+        assert scaled_grasp(grasp, s).is_force_closure() == base, (s, grasp.contacts)
+        answers.append(base)
+    # the cases hold both answers
+    assert any(answers) and not all(answers)
+
+
+@pytest.mark.parametrize("s", SCALES)
+def test_quality_of_a_uniformly_scaled_wrench_set_scales_with_it(s):
+    # W scaled by s in every coordinate (the grasp map of contacts at lengths s, measured in
+    # units of s): the largest ball in s W has radius s Q, and facet expansion's bracket follows
+    for grasp in closure_cases()[:5]:
+        for norm, magnitude in (("L1", "normal"), ("Linf", "full")):
+            W = grasp.wrench_set(norm, magnitude)
+            sW = gf.affine(s * np.eye(6), W)
+            base = grasp_quality(W, norm, magnitude, 1e-3, 1e-9, 300)
+            big = grasp_quality(sW, norm, magnitude, 1e-3, 1e-9, 300)
+            assert big.force_closure == base.force_closure
+            if base.force_closure:
+                assert big.lower == pytest.approx(s * base.lower, rel=1e-9)
+                assert big.upper == pytest.approx(s * base.upper, rel=1e-9)
+                assert big.iterations == base.iterations
+            else:
+                assert big.value == base.value == 0.0
+
+
+@pytest.mark.parametrize("s", SCALES)
+def test_grasp_quality_at_any_unit_of_length_is_certified(s):
+    # lengths alone scaled: W's torques scale by s, so Q changes, but the answer stays a
+    # certified bracket: upper = h_W(u) for its direction, recomputed with truth's support, and
+    # lower <= upper; closure as at unit scale
+    for grasp in closure_cases()[:5]:
+        base = grasp.quality()
+        g = scaled_grasp(grasp, s)
+        q = g.quality()
+        assert q.force_closure == base.force_closure
+        if q.force_closure:
+            h = T.grasp_support(plain(g), q.direction, "L1", "normal")
+            assert q.upper == pytest.approx(h, rel=1e-12)
+            assert 0.0 < q.lower <= q.upper and q.upper - q.lower <= 1e-3 * q.upper
+        else:
+            assert q.value == 0.0
+
+
+@pytest.mark.parametrize("s", SCALES)
+@pytest.mark.parametrize("norm, magnitude", OBJECTIVES)
+def test_min_force_scales_with_the_forces(norm, magnitude, s):
+    # the load in units of force times s: sigma, sigma_lower and the forces scale by s, the
+    # status does not change; every method. (Lengths are not scaled here: that maps W by
+    # diag(1, 1, 1, s, s, s), and a ray shot to a Euclidean eps in coordinates 1e9 apart is a
+    # different numerical problem; closure and quality above are checked under it.)
+    rng = np.random.default_rng(7)
+    grasps = [box_grasp(), random_grasp(rng, 3, ("soft", "point")),
+              random_grasp(rng, 4, ("soft", "point"))]
+    statuses = set()
+    for grasp in grasps:
+        for _ in range(3):
+            w = random_wrench(rng, force=2.0, torque=0.1)
+            ws = scaled_wrench(w, 1.0, s)
+            for method in gf.METHODS:
+                base = grasp.min_force(w, norm, magnitude, method=method)
+                res = grasp.min_force(ws, norm, magnitude, method=method)
+                assert res.status == base.status, (method, base.sigma, res.sigma)
+                statuses.add(res.status)
+                if base.status != "optimal":
+                    assert res.sigma == base.sigma == math.inf
+                    continue
+                # both brackets hold the same minimum (times s) and are eps wide (the start
+                # table and rounding take the two shots along different paths)
+                assert res.sigma_lower <= s * base.sigma * (1 + 1e-15)
+                assert s * base.sigma_lower <= res.sigma * (1 + 1e-15)
+                assert res.sigma == pytest.approx(s * base.sigma, rel=2e-9)
+                assert np.linalg.norm(res.resultant + ws) <= 1e-9 * np.linalg.norm(ws)
+                assert np.abs(res.forces).max() <= 10 * res.sigma
+    assert statuses == {"optimal", "infeasible"}
+
+
+def growth_pairs():
+    """(A, B, pose_a, pose_b) built by a function of the scale s: balls, a ball and a box, a
+    polytope whose origin facet expansion decides, an off-centre ellipsoid and a capsule."""
+    rng = np.random.default_rng(3)
+    V = rng.normal(size=(12, 3))
+    V -= V.mean(axis=0)
+    Q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    Q *= np.sign(np.linalg.det(Q))
+    S = np.diag([1.0, 0.5, 0.3])
+
+    def make(s):
+        I = np.eye(3)
+        return [
+            (gf.Ball(np.zeros(3), 1e-10 * s), gf.Ball(np.zeros(3), 1e-10 * s),
+             (I, np.zeros(3)), (I, np.array([4e-10, 0.0, 0.0]) * s)),
+            (gf.Ball(np.zeros(3), s), gf.Box(np.array([0.5, 0.3, 0.2]) * s),
+             (I, np.zeros(3)), (Q, np.array([2.0, 1.0, -0.5]) * s)),
+            (gf.Polytope(V * s), gf.Ellipsoid(np.array([0.9, 0.0, 0.0]) * s, S * s),
+             (Q, np.array([0.3, 0.2, 0.1]) * s), (I, np.array([-4.0, 1.0, 2.0]) * s)),
+            (gf.Capsule(0.2 * s, 1.0 * s), gf.Polytope(V * s),
+             (I, np.zeros(3)), (Q.T, np.array([0.5, 0.2, 0.3]) * s)),
+        ]
+    return make
+
+
+@pytest.mark.parametrize("s", [1e-9, 1e-3, 1e9])
+def test_growth_distance_is_scale_free(s):
+    make = growth_pairs()
+    for (A, B, pa, pb), (sA, sB, spa, spb) in zip(make(1.0), make(s)):
+        for method in gf.METHODS:
+            base = gf.growth_distance(A, pa, B, pb, method=method)
+            res = gf.growth_distance(sA, spa, sB, spb, method=method)
+            assert res.status == base.status
+            assert res.sigma == pytest.approx(base.sigma, rel=2e-9)
+            assert res.sigma_lower <= res.sigma <= res.sigma_upper
+    # two balls of radius 1e-10 (at this s too) 4e-10 apart, centre to centre: g = 2
+    A, B, pa, pb = make(s)[0]
+    assert gf.growth_distance(A, pa, B, pb).sigma == pytest.approx(2.0, rel=1e-9)
+    assert math.isfinite(gf.growth_distance(A, pa, B, pb).sigma)
