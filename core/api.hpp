@@ -176,6 +176,15 @@ inline bool miss_to_rounding(double h, Mat P, Int k) {
     }
     return h <= MISS_ROUNDING * std::sqrt(vmax);
 }
+// The relative rounding of a bound t_upper = h / n^T r (unit n) for a normal nearly orthogonal
+// to r: n^T r, a sum of n products, is rounded by up to n ulps of ||r||, large relative to n^T r
+// there. (h's own rounding, relative to A's size, is the problem's conditioning where the origin
+// is near A's boundary, the paper's sphere at small lambda, shared by every method and by an
+// exact solver.)
+inline double bound_rounding(Vec n, Vec r) {
+    return static_cast<double>(r.n) * 2.220446049250313e-16 * std::sqrt(dot(r, r)) /
+           std::abs(dot(n, r));
+}
 // a hit's t_upper, below t by at most rho (relative: face_rounding), is t
 double reported_upper(Int status, double t, double t_up, double rho);
 // Python's _result: copies normal, P[:k], lam[:k], Wt[:k]; t_up through reported_upper

@@ -295,8 +295,9 @@ inline Start start(IVec ints, Vec floats, Vec r, Int ws, Int max_iter, Mat Pz, M
     if (z.status != INSIDE) {
         double h = z.h;
         if (z.status == STALLED && h > 0.0) {
-            const double hm = zc_family_detail::polish_normal(
-                ints, floats, r, Pz, z.k, w.nvec, w.v, w.point, w.wit, w.scratch.sc, calls);
+            const double hm =
+                zc_family_detail::polish_normal(ints, floats, r, Pz, z.k, w.nvec, w.v, zeros.vec(),
+                                                w.point, w.wit, w.scratch.sc, calls);
             if (hm <= h) {
                 for (Int i = 0; i < n; ++i) w.nvec[i] = w.v[i];
                 h = hm;

@@ -85,13 +85,16 @@ bool holds(Mat P, Vec lam, Int k, double t, Vec r, Vec b, double tol) {
 // A hit only with its certificate, whatever procedure made it: t r the convex combination of
 // the record's points to point_holds(eps) (`holds`; the weights, nonnegative, are scaled to sum to 1:
 // an IE facet solved afresh gives t = 1 / y^T r and weights summing to 1 only to the solve's
-// accuracy) and its bracket t <= t_upper <= (1 + eps) t. A hit without one is the LIMIT it is,
-// its bracket [min(t, t_upper), t_upper].
+// accuracy) and its bracket t <= t_upper <= (1 + eps) t, t_upper taken with its rounding
+// (`bound_rounding`: a normal 2.6e-9 from orthogonal to r, at a corner of A, left t_upper
+// uncertain by 5e-6 where eps was 1e-9). A hit without one is the LIMIT it is, its bracket
+// [min(t, t_upper), t_upper].
 Shot certify(Shot out, Vec r, double eps) {
     if (out.status != HIT) return out;
     const double tol = point_holds(eps);
     Array b(r.n);
-    const double t = out.t, t_up = out.t_up;
+    const double t = out.t;
+    const double t_up = out.t_up * (1.0 + bound_rounding(out.normal.vec(), r));
     const Vec lam = out.lam.vec();
     double sum = 0.0;
     bool nonnegative = true;
@@ -106,7 +109,7 @@ Shot certify(Shot out, Vec r, double eps) {
         holds(out.V.mat(), lam, out.k(), t, r, b.vec(), tol))
         return out;
     out.status = LIMIT;
-    out.t = std::min(t, t_up);
+    out.t = std::min(t, out.t_up);
     return out;
 }
 

@@ -55,33 +55,54 @@ inline DistOut zc_step(IVec ints, Vec floats, Vec r, double t, Mat P, Mat Wt, Ve
     return zc(ints, floats, b, r, P, Wt, lam, k, eps, 0.0, max_iter, nvec, v, point, wit, sc);
 }
 
-// A stalled ZC's normal at the origin made orthogonal to the span of its generators P[:k]: they
-// span the face of CO(A) nearest r, whose hyperplane through the origin a miss certificate's is,
-// and rounding in ZC's large weights leaves the normal off it by ~1e-16 of their mass (h_A(n)
-// ~1e-11 for two point contacts whose wrench is off their grasp map's span). The new normal
-// goes to `m` and h_A(m) is returned, or NaN when m^T r is not positive or the span is
-// degenerate (one support call, counted in `calls`).
+// A stalled ZC's normal at the origin, polished toward a miss certificate (written to `m`, with
+// h_A(m) returned; NaN when no direction with m^T r > 0 came of it). First made orthogonal to the
+// span of its generators P[:k]: they span the face of CO(A) nearest r, whose hyperplane through
+// the origin a certificate's is, and rounding in their large weights leaves the normal off it by
+// ~1e-16 of their mass (h_A(n) ~1e-11 for two point contacts whose wrench is off their grasp
+// map's span, 8e-15 after). Then up to POLISH_STEPS Newton steps on h_A, whose gradient is the
+// support point s: m - (1 + POLISH_OVERSHOOT) h_A(m) s / ||s||^2, into the polar cone where a
+// curved face of CO(A) left ZC a positive h_A (W_Linf of full magnitude: a face of second-order
+// cones, where ZC's steps stop gaining at h_A ~1e-10). `best` is work of n entries; support
+// calls are counted in `calls`.
+constexpr Int POLISH_STEPS = 4;
+constexpr double POLISH_OVERSHOOT = 1e-3;
 inline double polish_normal(IVec ints, Vec floats, Vec r, Mat P, Int k, Vec nvec, Vec m,
-                            Vec point, Vec wit, const Scratch& sc, Int& calls) {
+                            Vec best, Vec point, Vec wit, const Scratch& sc, Int& calls) {
     const Int n = r.n;
-    if (k < 1 || k >= n) return std::numeric_limits<double>::quiet_NaN();
-    for (Int i = 0; i < n; ++i)
-        for (Int j = 0; j < k; ++j) sc.D(i, j) = P(j, i);
-    if (!lstsq(sc.D, n, k, nvec, sc.x, 0, sc.work, sc.wrhs))
-        return std::numeric_limits<double>::quiet_NaN();
-    double mm = 0.0;
-    for (Int i = 0; i < n; ++i) {
-        double s = nvec[i];
-        for (Int j = 0; j < k; ++j) s -= sc.x[j] * P(j, i);
-        m[i] = s;
-        mm += s * s;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (Int i = 0; i < n; ++i) m[i] = nvec[i];
+    if (k >= 1 && k < n) {
+        for (Int i = 0; i < n; ++i)
+            for (Int j = 0; j < k; ++j) sc.D(i, j) = P(j, i);
+        if (lstsq(sc.D, n, k, nvec, sc.x, 0, sc.work, sc.wrhs)) {
+            for (Int i = 0; i < n; ++i) {
+                double s = nvec[i];
+                for (Int j = 0; j < k; ++j) s -= sc.x[j] * P(j, i);
+                m[i] = s;
+            }
+        }
     }
-    if (!(mm > 0.0)) return std::numeric_limits<double>::quiet_NaN();
-    const double inv = 1.0 / std::sqrt(mm);
-    for (Int i = 0; i < n; ++i) m[i] *= inv;
-    if (!(dot(m, r) > 0.0)) return std::numeric_limits<double>::quiet_NaN();
-    calls += 1;
-    return support(ints, floats, m, point, wit);
+    double h_best = nan;
+    for (Int step = 0; step <= POLISH_STEPS; ++step) {
+        const double mm = dot(m, m);
+        if (!(mm > 0.0)) break;
+        const double inv = 1.0 / std::sqrt(mm);
+        for (Int i = 0; i < n; ++i) m[i] *= inv;
+        if (!(dot(m, r) > 0.0)) break;
+        const double h = support(ints, floats, m, point, wit);
+        calls += 1;
+        if (!(h >= h_best)) {   // also the first: h_best is NaN
+            h_best = h;
+            for (Int i = 0; i < n; ++i) best[i] = m[i];
+        }
+        const double ss = dot(point, point);
+        if (!(h > 0.0) || !(ss > 0.0)) break;
+        const double c = (1.0 + POLISH_OVERSHOOT) * h / ss;
+        for (Int i = 0; i < n; ++i) m[i] -= c * point[i];
+    }
+    for (Int i = 0; i < n; ++i) m[i] = best[i];
+    return h_best;
 }
 
 // M = [P_0 .. P_{n-1}]: the facet's points as columns.
@@ -610,8 +631,8 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
             kz = 0;
             singular = 0;
             if (st == STALLED && h > 0.0) {
-                const double hm = polish_normal(ints, floats, r, P, k, nvec, v, point, wit, sc,
-                                                calls);
+                const double hm = polish_normal(ints, floats, r, P, k, nvec, v, alpha, point,
+                                                wit, sc, calls);
                 if (hm <= h) {
                     for (Int i = 0; i < n; ++i) nvec[i] = v[i];
                     h_n = h = hm;
