@@ -67,8 +67,7 @@ inline DistOut zc_step(IVec ints, Vec floats, Vec r, double t, Mat P, Mat Wt, Ve
 // calls are counted in `calls`.
 constexpr Int POLISH_STEPS = 4;
 constexpr double POLISH_OVERSHOOT = 1e-3;
-// Out of line: inlined into zc_loop, its code slowed the IE steps' loop (min_force, zc-ie, L1:
-// +0.9 us a call).
+// Out of line: a rare case, whose code stays out of zc_loop, the IE steps' loop.
 [[gnu::noinline]] inline double polish_normal(IVec ints, Vec floats, Vec r, Mat P, Int k,
                                               Vec nvec, Vec m, Vec best, Vec point, Vec wit,
                                               const Scratch& sc, Int& calls) {
