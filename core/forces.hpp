@@ -28,9 +28,10 @@ constexpr Int CONTACT = 0;
 constexpr Int SLOT = 1;
 constexpr Int SIZE = 2;
 constexpr Int MAP = 3;
-// the forces' certificate: sum_i G_i f_i + w_ext within RESIDUAL |w_ext| (the bound on
-// the equilibrium residual), each f_i in F_i to CONE_ROUNDING relative to f_i1 (every force is a
-// nonnegative combination of unit forces on their cones' boundaries, each to a few ulps)
+// the forces' certificate: sum_i G_i f_i + w_ext within RESIDUAL |w_ext| (the bound on an
+// optimal answer's equilibrium residual), each f_i in F_i to CONE_ROUNDING relative to f_i1
+// (every force is a nonnegative combination of unit forces on their cones' boundaries, each to a
+// few ulps)
 constexpr double RESIDUAL = 1e-9;
 constexpr double CONE_ROUNDING = 1e-12;
 

@@ -169,6 +169,7 @@ inline Shot walk(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter,
     lam[0] = 1.0;
     Int k = 1;
     double eps_gjk = std::max(eps, INEXACT_GJK);
+    bool newton_tried = false;
     for (Int it = it0; it < max_iter; ++it) {
         if (t <= t_lo) return at_floor(it);
         for (Int i = 0; i < n; ++i) b[i] = t * r[i];
@@ -204,9 +205,11 @@ inline Shot walk(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter,
         if (g.status == MAX_ITER)
             return make_result(LIMIT, t_lo, t_up, best_h, it + 1, calls, best_n, Pz, lz, Wz, kz,
                                0);
-        if (g.status == STALLED && eps_gjk <= eps) {
+        if (g.status == STALLED && eps_gjk <= eps && !newton_tried) {
             // GJK's simplex lost rank at the exit (a corner of A, whose normals form a cone of
-            // more than one ray): Newton on its pieces, from the best normal so far
+            // more than one ray): Newton on its pieces, from the best normal so far (once: a
+            // walk stalls again where Newton could not finish)
+            newton_tried = true;
             for (Int c = 0; c < 2; ++c) {
                 NewtonOut fin =
                     newton_finish(ints, floats, r, eps, P, Wt, lam, k, best_n, t, c == 1);
@@ -228,7 +231,7 @@ inline Shot walk(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter,
         }
         // b outside A and a point of A below put every separating direction's n^T r > 0: a
         // converged one that does not is GJK's rounding there; with no such point, the paper's
-        // miss (n^T r <= 0 while d_A(b) > 0), certified by ZC from the origin
+        // miss (n^T r <= 0 while d_A(b) > 0), certified at the floor (crossing_miss)
         if (rn <= 0.0) {
             if (kz > 0) return at_floor(it + 1);
             // the paper's miss: every point of A on the ray lies above h / n^T r, which is

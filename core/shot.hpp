@@ -82,6 +82,20 @@ bool holds(Mat P, Vec lam, Int k, double t, Vec r, Vec b, double tol) {
     return on_point(P, lam, k, b, tol);
 }
 
+// Whether the weights lam[:k] of the rows P[:k] reproduce t r to tol relative: `holds` without a
+// work array (the check of every shot's record).
+inline bool reproduces(Mat P, Vec lam, Int k, double t, Vec r, double tol) {
+    double res = 0.0, bb = 0.0;
+    for (Int i = 0; i < r.n; ++i) {
+        const double b = t * r[i];
+        double e = -b;
+        for (Int j = 0; j < k; ++j) e += lam[j] * P(j, i);
+        res += e * e;
+        bb += b * b;
+    }
+    return res <= tol * tol * bb;
+}
+
 // A hit only with its certificate, whatever procedure made it: t r the convex combination of
 // the record's points to point_holds(eps) (`holds`; the weights, nonnegative, are scaled to sum to 1:
 // an IE facet solved afresh gives t = 1 / y^T r and weights summing to 1 only to the solve's
@@ -92,7 +106,6 @@ bool holds(Mat P, Vec lam, Int k, double t, Vec r, Vec b, double tol) {
 Shot certify(Shot out, Vec r, double eps) {
     if (out.status != HIT) return out;
     const double tol = point_holds(eps);
-    Array b(r.n);
     const double t = out.t;
     const double t_up = out.t_up * (1.0 + bound_rounding(out.normal.vec(), r));
     const Vec lam = out.lam.vec();
@@ -105,8 +118,7 @@ Shot certify(Shot out, Vec r, double eps) {
     if (nonnegative && std::abs(sum - 1.0) <= tol)
         for (Int j = 0; j < lam.n; ++j) lam[j] /= sum;
     if (t > 0.0 && t <= t_up && t_up - t <= eps * t && nonnegative &&
-        std::abs(sum - 1.0) <= tol &&
-        holds(out.V.mat(), lam, out.k(), t, r, b.vec(), tol))
+        std::abs(sum - 1.0) <= tol && reproduces(out.V.mat(), lam, out.k(), t, r, tol))
         return out;
     out.status = LIMIT;
     out.t = std::min(t, out.t_up);

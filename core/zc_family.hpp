@@ -67,8 +67,10 @@ inline DistOut zc_step(IVec ints, Vec floats, Vec r, double t, Mat P, Mat Wt, Ve
 // calls are counted in `calls`.
 constexpr Int POLISH_STEPS = 4;
 constexpr double POLISH_OVERSHOOT = 1e-3;
-inline double polish_normal(IVec ints, Vec floats, Vec r, Mat P, Int k, Vec nvec, Vec m,
-                            Vec best, Vec point, Vec wit, const Scratch& sc, Int& calls) {
+// Out of line: a rare case, whose code stays out of zc_loop, the IE steps' loop.
+[[gnu::noinline]] inline double polish_normal(IVec ints, Vec floats, Vec r, Mat P, Int k,
+                                              Vec nvec, Vec m, Vec best, Vec point, Vec wit,
+                                              const Scratch& sc, Int& calls) {
     const Int n = r.n;
     const double nan = std::numeric_limits<double>::quiet_NaN();
     for (Int i = 0; i < n; ++i) m[i] = nvec[i];

@@ -26,7 +26,7 @@ from test_grasp_forces import edge_of_cone_cases
 METHODS = list(gf.METHODS)
 OBJECTIVES = [("L1", "normal"), ("Linf", "normal"), ("L1", "full"), ("Linf", "full")]
 EPS = 1e-9                  # min_force's default eps
-# the issue's bound on the equilibrium residual, relative to ||w_ext||
+# the bound on the equilibrium residual of an "optimal" answer, relative to ||w_ext||
 RESIDUAL = 1e-9
 # forces are nonnegative combinations of unit forces on their cones' boundaries, each to a few
 # ulps: outside the cone by at most this much, relative to f_1
@@ -42,7 +42,7 @@ MARGIN = 1e-4
 WRONG_MARGIN = 1e-7
 
 
-# --- certificates, recomputed from what the answer returns -----------------------------------------
+# --- certificates, recomputed from what the answer returns ----------------------------------------
 def cone_excess(contact, f):
     """How far f lies outside F_i of eq. (12), relative to f_1 (<= 0 inside)."""
     tangential = math.hypot(f[1], f[2])
@@ -163,7 +163,7 @@ def check_answer(grasp, P, w, res, margin, ctx):
     return res.status
 
 
-# --- the random problems -----------------------------------------------------------------------------
+# --- the random problems --------------------------------------------------------------------------
 LOADS = ("random", "near", "edge")
 
 
@@ -238,7 +238,7 @@ def test_every_answer_certifies_itself():
     elapsed = time.perf_counter() - began
     print(f"\n{PROBLEMS} grasps, {sum(statuses.values())} answers in {elapsed:.1f} s: "
           f"{dict(count)}; {dict(statuses)}")
-    # the population the issue asks for: at least a third not force-closure, loads resisted, not
+    # the population asked for: at least a third not force-closure, loads resisted, not
     # resisted and near the boundary, every method with every objective
     assert count["not force-closure"] >= PROBLEMS / 3
     assert count["force-closure"] >= PROBLEMS / 10
@@ -274,13 +274,13 @@ def test_every_method_and_objective_certifies_itself(seed):
             (seed, kind))
 
 
-# --- regressions: grasps that cannot hold their load ------------------------------------------------
-# Three point contacts that cannot hold a 7 N weight (the issue that asked for this file): every
-# method but GJK-based answered "infeasible" after one iteration, as does the SOCP; GJK-based
-# answered "optimal" with sigma 4.93e12 and an equilibrium residual of 0.28 (sigma 5.32e12 with
-# sigma_lower 5.54e12 for the full magnitude): its walk down the ray reached t ~ 1e-13, where GJK
-# took t r for a point of W (the origin, on W's boundary, is within its rounding floor).
-THE_ISSUES_GRASP = (
+# --- regressions: grasps that cannot hold their load ----------------------------------------------
+# Three point contacts that cannot hold a 7 N weight: every method but GJK-based answered
+# "infeasible" after one iteration, as does the SOCP; GJK-based answered "optimal" with sigma
+# 4.93e12 and an equilibrium residual of 0.28 (sigma 5.32e12 with sigma_lower 5.54e12 for the full
+# magnitude): its walk down the ray reached t ~ 1e-13, where GJK took t r for a point of W (the
+# origin, on W's boundary, is within its rounding floor).
+THREE_POINT_CONTACTS_UNDER_A_WEIGHT = (
     ([0.03567522563517225, 0.1325304011021182, 0.03840047982950859],
      [-0.2503193285452432, -0.9299148197399706, -0.269441388403186], 0.40603910967496404, 0.0),
     ([-0.03906906108323974, -0.07221068714880793, 0.11649399520626091],
@@ -360,9 +360,9 @@ def check_cannot_hold(grasp, w, method, label):
 
 
 @pytest.mark.parametrize("method", METHODS)
-def test_the_issues_grasp_cannot_hold_its_load(method):
-    grasp, w = grasp_of(THE_ISSUES_GRASP)
-    check_cannot_hold(grasp, w, method, "the issue's grasp")
+def test_three_point_contacts_cannot_hold_a_weight(method):
+    grasp, w = grasp_of(THREE_POINT_CONTACTS_UNDER_A_WEIGHT)
+    check_cannot_hold(grasp, w, method, "three point contacts under a weight")
 
 
 @pytest.mark.parametrize("method", METHODS)
@@ -373,7 +373,7 @@ def test_two_contacts_that_cannot_hold_their_load(case, method):
     check_cannot_hold(grasp, w, method, case)
 
 
-# --- the two-point-contact corner --------------------------------------------------------------------
+# --- the two-point-contact corner -----------------------------------------------------------------
 def two_point_contact_cases():
     """The edge-of-cone cases of test_grasp_forces.py with two point contacts: w = -(lam_1 s_1 +
     lam_2 s_2), s_i on the edges of the friction cones, whose minimum is sum(lam) (L1) or
@@ -408,7 +408,7 @@ def test_two_point_contact_corners_certify_when_perturbed(method):
     assert len(cases) >= 18 and shots["L1"] >= 1000 and shots["Linf"] >= 250
 
 
-# --- no step left is no hit ---------------------------------------------------------------------------
+# --- no step left is no hit -----------------------------------------------------------------------
 @pytest.mark.parametrize("method", METHODS)
 def test_a_shot_without_steps_is_not_a_hit(method):
     # IE's steps from a start table's facet with max_iter = 0 (only the compiled entry point
