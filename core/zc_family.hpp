@@ -107,6 +107,34 @@ constexpr double POLISH_OVERSHOOT = 1e-3;
     return h_best;
 }
 
+// ZC from the origin ended (CONVERGED or STALLED) short of r: MISS with normal nvec and h_A, or
+// LIMIT with the bracket [0, h_A(n) / n^T r] where a stall's normal, polished, is not a
+// certificate to rounding (`miss_to_rounding`). nvec is overwritten by the polished normal where
+// that is better; m and best are work. Out of line, as polish_normal.
+struct OriginVerdict {
+    Int code;
+    double t_up;
+    double h;
+    Int calls;
+};
+[[gnu::noinline]] inline OriginVerdict origin_verdict(IVec ints, Vec floats, Vec r, Int st,
+                                                      double h, Mat P, Int k, Vec nvec, Vec m,
+                                                      Vec best, Vec point, Vec wit,
+                                                      const Scratch& sc) {
+    Int calls = 0;
+    if (st == STALLED && h > 0.0) {
+        const double hm = polish_normal(ints, floats, r, P, k, nvec, m, best, point, wit, sc,
+                                        calls);
+        if (hm <= h) {
+            for (Int i = 0; i < r.n; ++i) nvec[i] = m[i];
+            h = hm;
+        }
+    }
+    if (st == CONVERGED || miss_to_rounding(h, P, k)) return {MISS, 0.0, h, calls};
+    const double nr = dot(nvec, r);
+    return {LIMIT, nr > 0.0 ? h / nr : INF, h, calls};
+}
+
 // M = [P_0 .. P_{n-1}]: the facet's points as columns.
 [[gnu::always_inline]] inline void facet_matrix(Mat P, Int n, Mat M) {
     for (Int j = 0; j < n; ++j)
@@ -629,25 +657,14 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
             // CONVERGED here means h_A(n) <= 0 < n^T r: a certified miss. STALLED means r lies
             // on the boundary of CO(A) to the cone's rounding: a miss while h_A(n) is rounding
             // (the ray at most grazes A), else no more than the bracket [0, h_A(n) / n^T r]
-            h_n = h;
             kz = 0;
             singular = 0;
-            if (st == STALLED && h > 0.0) {
-                const double hm = polish_normal(ints, floats, r, P, k, nvec, v, alpha, point,
-                                                wit, sc, calls);
-                if (hm <= h) {
-                    for (Int i = 0; i < n; ++i) nvec[i] = v[i];
-                    h_n = h = hm;
-                }
-            }
-            const double nr = dot(nvec, r);
-            if (st == CONVERGED || miss_to_rounding(h, P, k)) {
-                code = MISS;
-                t_up = 0.0;
-            } else {
-                code = LIMIT;
-                t_up = nr > 0.0 ? h / nr : INF;
-            }
+            const OriginVerdict o =
+                origin_verdict(ints, floats, r, st, h, P, k, nvec, v, alpha, point, wit, sc);
+            calls += o.calls;
+            code = o.code;
+            t_up = o.t_up;
+            h_n = o.h;
             break;
         }
         // converged (or stalled): z = b_k, supported by H(n, s_A(n)). A stall certifies nothing
