@@ -208,6 +208,10 @@ Shot zc_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
              double t, Mat Pz, Mat Wz, Vec lz, Int kz, Int it, Int calls, Mat inverse,
              Mat directions);
 Shot zc_family(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int mode);
+// zc_from from a record's simplex V[:k] (witnesses W, weights lam), copied into arrays with the
+// n + 2 rows zc_from writes to
+Shot zc_from_simplex(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int mode,
+                     double t, Mat V, Mat W, Vec lam, Int k, Int it, Int calls);
 
 // ---- gjk_based.hpp, bi_gjk.hpp ------------------------------------------------------------
 Shot gjk_based(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter);

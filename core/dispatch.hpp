@@ -39,16 +39,8 @@ inline Shot distance_based(IVec ints, Vec floats, Vec r, Int ws, Int method, dou
     // singular step.
     const Int n = r.n;
     if (out.k() == n) {
-        // zc_from writes into n + 2 rows: the record's facet in arrays of that size
-        Array Pz(n + 2, n), Wz(n + 2, ws), lz(n + 2);
-        Mat P = Pz.mat(), W = Wz.mat(), V = out.V.mat(), Wo = out.W.mat();
-        for (Int j = 0; j < n; ++j) {
-            for (Int i = 0; i < n; ++i) P(j, i) = V(j, i);
-            for (Int i = 0; i < ws; ++i) W(j, i) = Wo(j, i);
-            lz.data[j] = out.lam.data[j];
-        }
-        Shot fin = certify(zc_from(ints, floats, r, ws, eps, max_iter, WITH_IE, out.t, P, W,
-                                   lz.vec(), n, 0, 0, Mat{}, Mat{}),
+        Shot fin = certify(zc_from_simplex(ints, floats, r, ws, eps, max_iter, WITH_IE, out.t,
+                                           out.V.mat(), out.W.mat(), out.lam.vec(), n, 0, 0),
                            r, eps);
         if (fin.status == HIT) return handed_over(out, std::move(fin));
     }

@@ -176,17 +176,8 @@ inline Shot ie_result(Int status, double t, Mat pool, Mat pwit, IVec fac, Vec ga
 inline Shot from_facet(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, double t,
                        Mat pool, Mat pwit, IVec fac, Vec gam, Int it, Int calls) {
     Face fc = face(pool, pwit, fac, gam, t);
-    const Int n = r.n;
-    const Int k = fc.k;
-    Array Pz(n + 2, n), Wz(n + 2, ws), lz(n + 2);
-    Mat P = Pz.mat(), W = Wz.mat(), V = fc.V.mat(), Wf = fc.W.mat();
-    for (Int j = 0; j < k; ++j) {
-        for (Int i = 0; i < n; ++i) P(j, i) = V(j, i);
-        for (Int i = 0; i < ws; ++i) W(j, i) = Wf(j, i);
-        lz.data[j] = fc.lam.data[j];
-    }
-    return zc_from(ints, floats, r, ws, eps, max_iter, 0, t, P, W, lz.vec(), k, it, calls, Mat{},
-                   Mat{});
+    return zc_from_simplex(ints, floats, r, ws, eps, max_iter, ZC_ONLY, t, fc.V.mat(), fc.W.mat(),
+                           fc.lam.vec(), fc.k, it, calls);
 }
 
 }  // namespace gf::ie_detail

@@ -746,6 +746,20 @@ Shot zc_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
 // Section 3.3 (ZC-based) and, with mode WITH_IE, section 3.4.2 (ZC-IE): ZC-based iterations,
 // and plain IE steps whenever V_k has n points (a facet the ray crosses inside); with mode
 // WITH_NEWTON, ZC-IE with the Newton finish (newton.hpp).
+Shot zc_from_simplex(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int mode,
+                     double t, Mat V, Mat W, Vec lam, Int k, Int it, Int calls) {
+    const Int n = r.n;
+    Array Pz(n + 2, n), Wz(n + 2, ws), lz(n + 2);
+    Mat P = Pz.mat(), Pw = Wz.mat();
+    for (Int j = 0; j < k; ++j) {
+        for (Int i = 0; i < n; ++i) P(j, i) = V(j, i);
+        for (Int i = 0; i < ws; ++i) Pw(j, i) = W(j, i);
+        lz.data[j] = lam[j];
+    }
+    return zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Pw, lz.vec(), k, it, calls,
+                   Mat{}, Mat{});
+}
+
 Shot zc_family(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int mode) {
     const Int n = r.n;
     // Pz (n + 2, n), Wz (n + 2, ws), lz (n + 2)

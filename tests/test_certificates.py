@@ -43,18 +43,6 @@ WRONG_MARGIN = 1e-7
 
 
 # --- certificates, recomputed from what the answer returns ----------------------------------------
-def cone_excess(contact, f):
-    """How far f lies outside F_i of eq. (12), relative to f_1 (<= 0 inside)."""
-    tangential = math.hypot(f[1], f[2])
-    if contact.mu == 0.0:
-        excess = max(tangential, abs(f[3]))
-    elif contact.mu_spin == 0.0:
-        excess = max(tangential / contact.mu - f[0], abs(f[3]))
-    else:
-        excess = math.hypot(tangential / contact.mu, f[3] / contact.mu_spin) - f[0]
-    return max(excess, -f[0]) / max(f[0], 1e-300)
-
-
 def grasp_size(P, norm, magnitude):
     """A bound on the size of W: its support along the axes (for rounding tolerances)."""
     return max(T.grasp_support(P, e, norm, magnitude) for e in np.vstack((np.eye(6), -np.eye(6))))
@@ -73,7 +61,7 @@ def check_optimal(grasp, P, w, res, ctx):
     assert res.feasible and math.isfinite(res.sigma), ctx
     forces = np.asarray(res.forces)
     for c, f in zip(grasp.contacts, forces):
-        assert cone_excess(c, f) <= CONE_TOL, (ctx, "cone", c.kind, f)
+        assert T.cone_excess(c, f) <= CONE_TOL, (ctx, "cone", c.kind, f)
     wrenches = np.array([G @ f for (G, _, _), f in zip(P, forces)])
     resultant = wrenches.sum(axis=0)
     assert np.linalg.norm(resultant + w) <= RESIDUAL * np.linalg.norm(w), \

@@ -30,24 +30,12 @@ RESIDUAL_TOL = 1e-12
 SOCP_TOL = 5e-8
 
 
-def cone_slack(contact, f):
-    """How far f lies outside F_i of eq. (12), relative to f_1 (written here, not Contact's)."""
-    tangential = math.hypot(f[1], f[2])
-    if contact.mu == 0.0:
-        excess = max(tangential, abs(f[3]))
-    elif contact.mu_spin == 0.0:
-        excess = max(tangential / contact.mu - f[0], abs(f[3]))
-    else:
-        excess = math.hypot(tangential / contact.mu, f[3] / contact.mu_spin) - f[0]
-    return max(excess, -f[0]) / max(f[0], 1e-300)
-
-
 def check_forces(grasp, w, res, residual_vs_w=True, residual_tol=RESIDUAL_TOL):
     """Forces in their cones, in equilibrium with w to residual_tol (relative to the sum of
     their wrenches' norms), and sigma their objective."""
     P = plain(grasp)
     for c, f in zip(grasp.contacts, res.forces):
-        assert cone_slack(c, f) <= CONE_TOL, (c, f)
+        assert T.cone_excess(c, f) <= CONE_TOL, (c, f)
         assert c.contains(f, tol=CONE_TOL), (c, f)
     wrenches = np.array([G @ f for (G, _, _), f in zip(P, res.forces)])
     scale = np.linalg.norm(wrenches, axis=1).sum()

@@ -853,6 +853,19 @@ def _absent_components(contacts):
     return rows
 
 
+def cone_excess(contact, f):
+    """How far the local force f lies outside F_i of eq. (12), relative to f_1 (<= 0 inside),
+    from the contact's mu and mu_spin alone (not Contact's own checks)."""
+    tangential = np.hypot(f[1], f[2])
+    if contact.mu == 0.0:
+        excess = max(tangential, abs(f[3]))
+    elif contact.mu_spin == 0.0:
+        excess = max(tangential / contact.mu - f[0], abs(f[3]))
+    else:
+        excess = np.hypot(tangential / contact.mu, f[3] / contact.mu_spin) - f[0]
+    return max(excess, -f[0]) / max(f[0], 1e-300)
+
+
 def cone_slack(f, mu, mu_s):
     """The radius of the largest ball, in the contact's own components, around f inside F_i of
     eq. (12) (negative outside): for the circular cone of half-angle atan(mu), the distance to
