@@ -94,7 +94,7 @@ def compiled_first_shot(points, w, norm):
     """ns of the compiled call of a first min_force on a grasp equal to the query's, and the
     call's iterations."""
     grasp = gf.Grasp([gf.Contact(p, n, MU, MU_S) for p, n in points])
-    _, code, shoot, args, _, size, _, _ = grasp._call(norm, "normal", "zc-ie")
+    _, code, shoot, args, _, size, _, _, _ = grasp._call(norm, "normal", "zc-ie")
     packed = np.empty(size)
     t0 = time.perf_counter_ns()
     head = shoot(w, code, 1e-9, 10000, packed, NO_TABLE, *args)
@@ -146,7 +146,7 @@ def run_reused(n, rng):
     wrenches = [wrench(rng) for _ in range(n)]
     for w in wrenches[:3]:
         grasp.min_force(w)                     # the start table is built at the second shot
-    space, code, shoot, args, A, size, _, _ = grasp._call("L1", "normal", "zc-ie")
+    space, code, shoot, args, A, size, _, _, _ = grasp._call("L1", "normal", "zc-ie")
     table = start_table(A, 6)
     whole, compiled = [], []
     for i, w in enumerate(wrenches):

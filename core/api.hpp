@@ -257,8 +257,10 @@ Head shoot_packed(IVec ints, Vec floats, Vec r, Int ws, Int method, double eps, 
 // forces.hpp: statuses that say no shot was made
 constexpr Int BAD_WRENCH = -1;
 constexpr Int ZERO_WRENCH = -2;
+// no answer in a rank-deficient grasp's span (forces.hpp): the caller shoots at the full set
+constexpr Int FULL_SET = -3;
 Head shoot_and_read_forces(Vec w_ext, Int method, double eps, Int max_iter, Vec packed,
-                           Vec start, IVec ints, Vec floats, Vec reader);
+                           Vec start, IVec ints, Vec floats, Vec reader, Vec span);
 // warm.hpp
 Head shoot_warm(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Vec normal,
                 double spread, Vec packed, Int e);

@@ -31,6 +31,9 @@ constexpr Int OPTIMAL = 0;
 constexpr Int INFEASIBLE = 1;
 constexpr Int MAX_ITER = 2;
 constexpr Int BAD_WRENCH = 3;   // an entry is NaN or inf, or its squared norm overflows
+// not a status of a batch's answer: a row left to the full-dimensional set (forces.hpp's
+// FULL_SET), which graspforce.batch answers again there
+constexpr Int FULL_SET = 4;
 
 // rows a worker takes at a time: large enough that the counter is not contended, small enough
 // that the last blocks balance the threads
@@ -98,10 +101,11 @@ void parallel_rows(Int rows, Int threads, MakeState make_state, Row row) {
 // forces at forces[4 m i:]; with Grasp.min_force's reading of the head: a zero wrench is
 // OPTIMAL with sigma 0; a miss (which includes a ray leaving W at the origin) INFEASIBLE with
 // sigma inf; a shot stopped by max_iter, or whose forces lack their certificate (forces.hpp),
-// MAX_ITER, with its forces when they are finite; t_scale is the
-// shot set's (m on W_Linf's lift). Rows without forces get zeros.
+// MAX_ITER, with its forces when they are finite; a row without an answer in a projected set's
+// span FULL_SET, with sigma NaN; t_scale is the shot set's (m on W_Linf's lift). Rows without
+// forces get zeros.
 inline void min_force_rows(Mat wrenches, Int method, double eps, Int max_iter, Int packed_size,
-                           Vec start, IVec ints, Vec floats, Vec reader, double t_scale,
+                           Vec start, IVec ints, Vec floats, Vec reader, Vec span, double t_scale,
                            Vec sigma, Vec sigma_lower, IVec status, IVec iterations, Vec forces,
                            Int threads) {
     const Int m = static_cast<Int>(reader[3]);
@@ -119,12 +123,12 @@ inline void min_force_rows(Mat wrenches, Int method, double eps, Int max_iter, I
             const Vec packed{s.packed.data(), packed_size};
             const Head head = shoot_and_read_forces(wrenches.row(i), method, eps, max_iter,
                                                     packed, start, s.prog.i(), s.prog.f(),
-                                                    reader);
+                                                    reader, span);
             Int code;
             double sig, lower;
             bool read = false;
-            if (head.status == BAD_WRENCH) {
-                code = batch::BAD_WRENCH;
+            if (head.status == BAD_WRENCH || head.status == FULL_SET) {
+                code = head.status == BAD_WRENCH ? batch::BAD_WRENCH : batch::FULL_SET;
                 sig = lower = std::numeric_limits<double>::quiet_NaN();
             } else if (head.status == ZERO_WRENCH) {
                 code = batch::OPTIMAL;
@@ -146,8 +150,8 @@ inline void min_force_rows(Mat wrenches, Int method, double eps, Int max_iter, I
             sigma[i] = sig;
             sigma_lower[i] = lower;
             status[i] = code;
-            iterations[i] = (head.status == BAD_WRENCH || head.status == ZERO_WRENCH)
-                                ? 0 : head.iters;
+            iterations[i] = (head.status == BAD_WRENCH || head.status == ZERO_WRENCH ||
+                             head.status == FULL_SET) ? 0 : head.iters;
             if (with_forces)
                 for (Int a = 0; a < 4 * m; ++a) forces[4 * m * i + a] = read ? packed[1 + a] : 0.0;
         });

@@ -105,16 +105,16 @@ NB_MODULE(_core, m) {
     m.def(
         "shoot_and_read_forces",
         [](In1 w_ext, gf::Int method, double eps, gf::Int max_iter, F1 packed, In1 start,
-           InI1 ints, In1 floats, In1 reader) {
+           InI1 ints, In1 floats, In1 reader, In1 span) {
             nb::gil_scoped_release nogil;
             const Program prog = program_copy(ints, floats);
             return head_tuple(gf::shoot_and_read_forces(vec(w_ext), method, eps, max_iter,
                                                         vec(packed), vec(start), prog.ints,
-                                                        prog.floats, vec(reader)));
+                                                        prog.floats, vec(reader), vec(span)));
         },
         "w_ext"_a.noconvert(), "method"_a, "eps"_a, "max_iter"_a, "packed"_a.noconvert(),
         "start"_a.noconvert(), "ints"_a.noconvert(), "floats"_a.noconvert(),
-        "reader"_a.noconvert(),
+        "reader"_a.noconvert(), "span"_a.noconvert(),
         "One min_force call: the shot at W along -w_ext and the forces read off Z_W(r).");
 
     m.def(
@@ -147,7 +147,7 @@ NB_MODULE(_core, m) {
     m.def(
         "min_force_rows",
         [](In2 wrenches, gf::Int method, double eps, gf::Int max_iter, gf::Int packed_size,
-           In1 start, InI1 ints, In1 floats, In1 reader, double t_scale, F1 sigma,
+           In1 start, InI1 ints, In1 floats, In1 reader, In1 span, double t_scale, F1 sigma,
            F1 sigma_lower, I1 status, I1 iterations, F1 forces, gf::Int threads) {
             const gf::Int N = wrenches.rows;
             const gf::Int m = static_cast<gf::Int>(reader.data[3]);
@@ -157,13 +157,14 @@ NB_MODULE(_core, m) {
                 throw nb::value_error("min_force_rows: an output array has the wrong length");
             nb::gil_scoped_release nogil;
             gf::min_force_rows(mat(wrenches), method, eps, max_iter, packed_size, vec(start),
-                               ivec(ints), vec(floats), vec(reader), t_scale, vec(sigma),
+                               ivec(ints), vec(floats), vec(reader), vec(span), t_scale,
+                               vec(sigma),
                                vec(sigma_lower), ivec(status), ivec(iterations), vec(forces),
                                threads);
         },
         "wrenches"_a.noconvert(), "method"_a, "eps"_a, "max_iter"_a, "packed_size"_a,
         "start"_a.noconvert(), "ints"_a.noconvert(), "floats"_a.noconvert(),
-        "reader"_a.noconvert(), "t_scale"_a, "sigma"_a.noconvert(), "sigma_lower"_a.noconvert(),
+        "reader"_a.noconvert(), "span"_a.noconvert(), "t_scale"_a, "sigma"_a.noconvert(), "sigma_lower"_a.noconvert(),
         "status"_a.noconvert(), "iterations"_a.noconvert(), "forces"_a.noconvert(), "threads"_a,
         "min_force for every row of wrenches (N, 6) on `threads` threads (0: all cores); the "
         "outputs are written in place (forces: empty, or (N, m, 4) flattened).");
@@ -205,7 +206,7 @@ NB_MODULE(_core, m) {
     GF_EXPORT(HIT); GF_EXPORT(MISS); GF_EXPORT(LIMIT);
     GF_EXPORT(GJK_BASED); GF_EXPORT(IE); GF_EXPORT(ZC_BASED); GF_EXPORT(BI_GJK);
     GF_EXPORT(ZC_IE); GF_EXPORT(ZC_IE_NEWTON); GF_EXPORT(HEAD);
-    GF_EXPORT(BAD_RAY); GF_EXPORT(BAD_WRENCH); GF_EXPORT(ZERO_WRENCH);
+    GF_EXPORT(BAD_RAY); GF_EXPORT(BAD_WRENCH); GF_EXPORT(ZERO_WRENCH); GF_EXPORT(FULL_SET);
 #undef GF_EXPORT
     // the growth-distance query's codes and layout, the force reader's and the warm start's
     nb::module_ growth = m.def_submodule("growth", "The growth-distance query's codes and layout.");
@@ -217,6 +218,7 @@ NB_MODULE(_core, m) {
     GF_EXPORT_FROM(warm, WIDENINGS);
     GF_EXPORT_FROM(batch, OPTIMAL); GF_EXPORT_FROM(batch, INFEASIBLE);
     GF_EXPORT_FROM(batch, MAX_ITER); GF_EXPORT_FROM(batch, BAD_WRENCH);
+    GF_EXPORT_FROM(batch, FULL_SET);
     GF_EXPORT_FROM(growth, OK); GF_EXPORT_FROM(growth, BAD_POSE_A);
     GF_EXPORT_FROM(growth, BAD_POSE_B); GF_EXPORT_FROM(growth, COINCIDENT);
     GF_EXPORT_FROM(growth, SEPARATED); GF_EXPORT_FROM(growth, TOUCHING);

@@ -34,6 +34,9 @@ constexpr Int MAP = 3;
 // few ulps)
 constexpr double RESIDUAL = 1e-9;
 constexpr double CONE_ROUNDING = 1e-12;
+// a load whose part outside a projected set's span is within SPAN_TOL |w_ext| is shot in the span:
+// that part adds at most SPAN_TOL |w_ext| to the RESIDUAL the forces' certificate allows
+constexpr double SPAN_TOL = 1e-10;
 
 // sigma, with forces (m, 4), wrenches (m, 6) and resultant (6,) written to their entries of
 // `packed` (zeroed by the caller), for z = sum_k weights_k v_k = t r, scale = 1/t, and the force
@@ -141,29 +144,53 @@ inline bool forces_hold(Vec w_ext, double ww, Vec reader, Vec packed) {
 
 // One compiled call per min_force: z = t r on W by `method` (r = -w_ext), then the forces read
 // off Z_W(r). start: the wrench set's start table or an empty array; then a wrench space's
-// constant arguments: the shot set's program and its force reader.
+// constant arguments: the shot set's program, its force reader and its span: empty for W (or
+// W_Linf's lift) itself, or Q^T (k, 6) by rows for the image of a rank-deficient grasp's set in
+// the range of [G_1 ... G_m] (Q an orthonormal basis of it; graspforce.wrench_space), whose ray
+// is Q^T r in its last k coordinates.
 //
-// Returns the head of the shot, whose arrays go to `packed` (extra_size(m) + capacity(6, ws)
-// entries) after the extra entries [sigma, forces (m, 4), wrenches (m, 6), resultant (6,)];
+// Returns the head of the shot, whose arrays go to `packed` (extra_size(m) + capacity(n, ws)
+// entries, n the shot set's dimension) after the extra entries [sigma, forces (m, 4), wrenches
+// (m, 6), resultant (6,)];
 // zero forces and sigma = inf when the ray misses W or the shot found no point of W on it.
 // A hit is checked against the answer's own certificate (`forces_hold`, and 1 / t_upper <=
 // sigma <= (1 + eps) / t_upper, each within eps and rounding): where it fails, the head's
 // status is LIMIT, an answer with its bracket but not certified. Or, with no shot, a head
-// whose status is ZERO_WRENCH or BAD_WRENCH.
+// whose status is ZERO_WRENCH or BAD_WRENCH. In a span, no answer but a certified hit or miss:
+// the status FULL_SET (and no shot) for a load farther than SPAN_TOL |w_ext| from it, or after
+// a shot that ended short of its certificate, and the caller shoots at the full-dimensional set.
+// (At the corners of two point contacts' W, where the load lies on the boundary of the wrenches
+// they resist, 4% of the shots in R^5 stalled, all methods alike, where R^6's settle.)
 Head shoot_and_read_forces(Vec w_ext, Int method, double eps, Int max_iter, Vec packed,
-                           Vec start, IVec ints, Vec floats, Vec reader) {
+                           Vec start, IVec ints, Vec floats, Vec reader, Vec span) {
     using namespace forces_detail;
     const double ww = dot(w_ext, w_ext);
     // x.x is NaN or inf iff an entry is (or the squares overflow)
     if (w_ext.n != 6 || !std::isfinite(ww)) return {BAD_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0};
     if (ww == 0.0) return {ZERO_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0};
-    // r = -w_ext, after the lift's m - 1 zeros for Linf (graspforce.wrench_space)
+    // r = -w_ext (or Q^T r in the span), after the lift's m - 1 zeros for Linf
+    // (graspforce.wrench_space)
     const Int n = ints[blocks(ints[0]).DIM];   // the set's dimension: its root node's
+    const Int k = span.n > 0 ? span.n / 6 : 6;
     Array r_(n);
     const Vec r = r_.vec();
-    for (Int a = 0; a < 6; ++a) r[n - 6 + a] = -w_ext[a];
+    if (span.n == 0) {
+        for (Int a = 0; a < 6; ++a) r[n - 6 + a] = -w_ext[a];
+    } else {
+        double off[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+        for (Int j = 0; j < k; ++j) {
+            double s = 0.0;
+            for (Int a = 0; a < 6; ++a) s -= span[6 * j + a] * w_ext[a];
+            r[n - k + j] = s;
+            for (Int a = 0; a < 6; ++a) off[a] += span[6 * j + a] * s;
+        }
+        double oo = 0.0;
+        for (Int a = 0; a < 6; ++a) oo += (off[a] + w_ext[a]) * (off[a] + w_ext[a]);
+        if (!(oo <= SPAN_TOL * SPAN_TOL * ww)) return {FULL_SET, 0.0, 0.0, 0.0, 0, 0, 0, 0};
+    }
     Shot out = shoot_with_table(ints, floats, r, static_cast<Int>(reader[0]), method, eps,
                                 max_iter, start);
+    if (span.n > 0 && out.status == LIMIT) return {FULL_SET, 0.0, 0.0, 0.0, 0, 0, 0, 0};
     const double t = out.t;
     const Int m = static_cast<Int>(reader[3]);
     const Int e = forces::extra_size(m);
@@ -177,11 +204,11 @@ Head shoot_and_read_forces(Vec w_ext, Int method, double eps, Int max_iter, Vec 
     packed[0] = sigma;
     Head head = pack(out, packed, e);
     if (out.status == HIT) {
-        // t on W_Linf is m t' on its lift in R^(m + 5); 1 on W itself (n = 6)
-        const double lower = 1.0 / (static_cast<double>(n - 5) * out.t_up);
+        // t on W_Linf is m t' on its lift in R^(m - 1 + k); 1 on W itself (n = k)
+        const double lower = 1.0 / (static_cast<double>(n - k + 1) * out.t_up);
         if (!(forces_hold(w_ext, ww, reader, packed) && lower <= sigma * (1.0 + eps) &&
               sigma <= lower * (1.0 + eps + 1e-15)))
-            head.status = LIMIT;
+            head.status = span.n > 0 ? FULL_SET : LIMIT;
     }
     return head;
 }

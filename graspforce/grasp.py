@@ -3,7 +3,7 @@ import math
 
 import numpy as np
 
-from ._core import BAD_WRENCH, HIT, MISS, ZERO_WRENCH, shoot_and_read_forces
+from ._core import BAD_WRENCH, HIT, MISS, FULL_SET, ZERO_WRENCH, shoot_and_read_forces
 from ._start_table import UNSEEN, start_table
 from ._validate import check_choice, finite_array, finite_vector, is_vector
 from .contact import Contact
@@ -78,6 +78,9 @@ class Grasp:
         R(r), r = -w_ext, found by `method` (any of gf.METHODS) to relative accuracy eps; the
         forces are read off the witnesses of Z_W(r). For Linf, IE and ZC-IE shoot the ray (0, r)
         at W_Linf's lift in R^(m + 5) (graspforce.wrench_space), where IE needs half the steps.
+        A grasp whose wrenches span only R^k, k < 6 (two point contacts), is shot in that span
+        (the set Q^T W, the ray Q^T r); a load outside it, or a shot there that ends uncertified,
+        at the full-dimensional set.
         """
         try:
             call = self._calls.get((norm, magnitude, method))
@@ -85,9 +88,9 @@ class Grasp:
             call = None
         if call is None:
             call = self._call(norm, magnitude, method)
-        space, code, shoot, args, A, size, extra, t_scale = call
+        space, code, shoot, args, A, size, extra, t_scale, ray_dims = call
         eps, max_iter = check_tolerances(eps, max_iter)
-        start = start_table(A, 6)
+        start = start_table(A, ray_dims)
         packed = np.empty(size)
         # the common call, a float64 (6,) array, goes straight to the compiled code, which also
         # checks it; anything else, or a refused wrench, is converted or refused here
@@ -99,6 +102,15 @@ class Grasp:
             w_ext = np.array(finite_vector(w_ext, "w_ext", 6)[0])
             head = shoot(w_ext, code, eps, max_iter, packed, start, *args)
         status = head[0]
+        if status == FULL_SET:
+            # a load beyond the span of a rank-deficient grasp's wrenches, or a shot in it that
+            # did not certify: the full-dimensional set answers (as it does without a span)
+            space, code, shoot, args, A, size, extra, t_scale, ray_dims = call = (
+                self._calls.get((norm, magnitude, method, True))
+                or self._call(norm, magnitude, method, True))
+            packed = np.empty(size)
+            head = shoot(w_ext, code, eps, max_iter, packed, start_table(A, ray_dims), *args)
+            status = head[0]
         if status == ZERO_WRENCH:
             return self._without_forces(space, "optimal", 0.0, method, None)
         sigma = packed.item(0)
@@ -139,18 +151,20 @@ class Grasp:
             for target in space._targets.values():
                 target.set._start_table = UNSEEN
 
-    def _call(self, norm, magnitude, method):
+    def _call(self, norm, magnitude, method, full=False):
         """What min_force needs of one (norm, magnitude, method), checked and gathered once: the
         wrench space, the method's code, the compiled entry point and its constant arguments,
-        and of the target (graspforce.wrench_space.Target) its set, packed size, extra entries
-        and t_scale. One lookup a call instead of four and their attributes: with the slotted
-        MinForce, the Python around the compiled call went from ~1.9 to ~1.4 us."""
+        and of the target (graspforce.wrench_space.Target) its set, packed size, extra entries,
+        t_scale and ray dimensions. One lookup a call instead of four and their attributes: with
+        the slotted MinForce, the Python around the compiled call went from ~1.9 to ~1.4 us.
+        full: the target in R^6 even when the grasp's wrenches span less (for loads outside
+        the span), kept under the key (norm, magnitude, method, True)."""
         code = METHODS[check_choice(method, METHODS, "method")]
         space = self._space(norm, magnitude)
-        target = space.target(method)
-        call = self._calls[(norm, magnitude, method)] = (
+        target = space.target(method, full)
+        call = self._calls[(norm, magnitude, method) + ((True,) if full else ())] = (
             space, code, space.shoot, target.compiled_args, target.set, target.packed_size,
-            target.extra, target.t_scale)
+            target.extra, target.t_scale, target.ray_dims)
         return call
 
     def _without_forces(self, space, status, sigma, method, ray, t_scale=1):

@@ -9,6 +9,7 @@ import numpy as np
 from ._core import HIT, LIMIT, MISS
 from ._forces import force_views
 from ._packed import unpack
+from .sets import Affine
 
 _STATUS = {HIT: "hit", MISS: "miss", LIMIT: "max_iter"}
 
@@ -269,16 +270,23 @@ class MinForce:
         graspforce.wrench_space) and the ray (0, -w_ext), where sigma = 1 / (m t). The wrench
         part u of the lift's normal (mu, u) is a normal of W_Linf: h_W(u) = sum_i h_Ai(u) <=
         m h_C(mu, u) since the lift's rows sum to zero, so u alone certifies sigma_lower (and a
-        miss)."""
+        miss). For a grasp whose wrenches span only R^k, k < 6, and a load in that span, the
+        shot is on the image P A of that set A (W or C) and the ray P (0, -w_ext), with
+        P = Q^T on W and block-diag(I, Q^T) on C (`shot.convex_set.matrix`, Q an orthonormal
+        basis of the span); h_PA(n) = h_A(P^T n), so P^T n is a normal of A."""
         try:
             return self._shot
         except AttributeError:
             self._shot = None
             if self.ray is not None:
                 W, w_ext, head, packed, extra = self.ray
-                r = np.zeros(W.dim)
-                r[W.dim - 6:] = -np.asarray(w_ext, dtype=float)
-                self._shot = RayShot.from_packed(W, r, self.method, head, packed, extra)
+                # a shot set in the span of a rank-deficient grasp is the only affine root
+                # (graspforce.wrench_space.projection)
+                P = W.matrix if isinstance(W, Affine) else None
+                r = np.zeros(W.dim if P is None else P.shape[1])
+                r[r.shape[0] - 6:] = -np.asarray(w_ext, dtype=float)
+                self._shot = RayShot.from_packed(W, r if P is None else P @ r, self.method,
+                                                 head, packed, extra)
             return self._shot
 
     def to_dict(self):

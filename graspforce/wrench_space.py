@@ -33,13 +33,21 @@ ingot grasp IE needs 28 steps on C (R^9) against 63 on the sum (R^6) at eps = 1e
 (docs/design.md, "W_Linf's lift"). A vertex of C is one contact's wrench (or the origin), so the
 forces are read off as for W_L1: f_i = sum_k (lam_k / t') u_ki over the vertices of contact i,
 whose weights sum to 1/m.
+
+A grasp whose wrenches do not span R^6 (two point contacts make no torque about the line through
+them: rank 5) has a flat W, which gets no start table and on which IE and ZC take more steps.
+min_force then shoots at the image Q^T W in R^k (or block-diag(I, Q^T) of the lift), Q an
+orthonormal basis of the range of the contacts' maps (`wrench_span`), along Q^T r: the same t,
+the forces read off the same witnesses. A load farther than 1e-10 |w_ext| from the range
+(core/forces.hpp, SPAN_TOL) is shot at the full-dimensional set instead.
 """
 import numpy as np
 
 from ._core import capacity, extra_size
 from ._forces import force_reader
 from ._kernel import children, param_start
-from .sets import ConeCap, Ellipsoid, Hull, MinkowskiSum, Polytope, affine, hull, minkowski_sum
+from .sets import (Affine, ConeCap, Ellipsoid, Hull, MinkowskiSum, Polytope, affine, hull,
+                   minkowski_sum)
 
 NORMS = ("L1", "Linf")
 MAGNITUDES = ("normal", "full")
@@ -94,18 +102,55 @@ LIFTED_METHODS = ("ie", "zc-ie")
 # since the lift's contact sets are embeddings, benchmarks/results/linf_lift.md; 0.73, 0.71,
 # 1.02, 1.28 before)
 LIFT_MAX_CONTACTS = 6
+# singular values of the contacts' maps below this fraction of the largest count as zero: an exact
+# deficiency leaves ~1e-16, and the part of W it drops is within the certificate's 1e-9 residual
+RANK_TOL = 1e-12
+NO_SPAN = np.empty(0)      # the span argument of a set shot in R^6 (core/forces.hpp)
+
+
+def wrench_span(contacts, contact_matrices):
+    """Q^T (k, 6), Q an orthonormal basis of the range of the contacts' maps (the columns of G_i
+    each contact's cone uses: f_1, the tangential forces with friction, the spin moment of a soft
+    finger), when its rank k is below 6; None otherwise. Only grasps of at most two contacts or
+    of fewer than six force components are examined (an SVD, ~10 us): a fresh grasp of more
+    contacts pays nothing, and is shot in R^6 even when deficient (three collinear point
+    contacts)."""
+    cols = [[0] + ([1, 2] if c.mu > 0.0 else []) + ([3] if c.mu_spin > 0.0 else [])
+            for c in contacts]
+    if len(contacts) > 2 and sum(len(used) for used in cols) >= 6:
+        return None
+    M = np.hstack([G[:, used] for G, used in zip(contact_matrices, cols)])
+    U, s, _ = np.linalg.svd(M)
+    k = int(np.count_nonzero(s > RANK_TOL * s[0]))
+    return U[:, :k].T.copy() if k < 6 else None
+
+
+def projection(span, m, lifted):
+    """The map from the shot set's space to its image in the span: Q^T on W, block-diag(I, Q^T)
+    on the lift (whose first m - 1 coordinates stay)."""
+    if not lifted:
+        return span
+    k = span.shape[0]
+    M = np.zeros((m - 1 + k, m + 5))
+    M[:m - 1, :m - 1] = np.eye(m - 1)
+    M[m - 1:, m - 1:] = span
+    return M
 
 
 class Target:
     """One set that min_force shoots at, compiled, with the table that reads contact forces off
     its witnesses (`graspforce._forces`): W itself, or W_Linf's lift, whose t is `t_scale`
-    (= m) times W_Linf's. maps: id(leaf) -> (contact, base, map) for the leaves of the
-    contacts' sets (the others are origins: no force)."""
+    (= m) times W_Linf's, or either's image in the span Q^T (k, 6) of a rank-deficient grasp
+    (`span`: Q^T by rows, NO_SPAN for a set in R^6), whose rays use its last `ray_dims` (k, else
+    6) coordinates. maps: id(leaf) -> (contact, base, map) for the leaves of the contacts' sets
+    (the others are origins: no force)."""
 
     def __init__(self, shot_set, maps, t_scale, contact_matrices, linf, full, spin_weight,
-                 friction):
+                 friction, span=None):
         self.set = shot_set
         self.t_scale = t_scale
+        self.span = NO_SPAN if span is None else span.ravel()
+        self.ray_dims = 6 if span is None else span.shape[0]
         table, forces_map = self._table(maps)
         m = contact_matrices.shape[0]
         # entries of the array a min_force call fills: the forces, then the shot's arrays
@@ -116,7 +161,7 @@ class Target:
         ints, floats = self.set.program
         self.compiled_args = (ints, floats, force_reader(self.set.witness_size, linf, full,
                                                          contact_matrices, table, forces_map,
-                                                         spin_weight, friction))
+                                                         spin_weight, friction), self.span)
 
     def _table(self, maps):
         """(table (4, leaves), maps): per leaf its contact (-1 for an origin), the start of its
@@ -157,15 +202,19 @@ def _root_children(contacts, magnitude, lifted, linf):
     return parts, maps
 
 
-def generic_target(contacts, norm, magnitude, contact_matrices, spin_weight, lifted):
+def generic_target(contacts, norm, magnitude, contact_matrices, spin_weight, lifted,
+                   span=None):
     """The Target of a wrench space built as a tree and compiled by the generic compiler
-    (graspforce.sets): the reference that the templates below reproduce."""
+    (graspforce.sets): the reference that the templates below reproduce. span: Q^T of a
+    rank-deficient grasp (`wrench_span`), whose image of the set is shot."""
     linf = norm == "Linf"
     parts, maps = _root_children(contacts, magnitude, lifted, linf)
     shot_set = minkowski_sum(*parts) if linf and not lifted else hull(*parts)
+    if span is not None:
+        shot_set = affine(projection(span, len(contacts), lifted), shot_set)
     friction = np.array([(c.mu, c.mu_spin) for c in contacts], dtype=float)
     return Target(shot_set, maps, len(contacts) if lifted else 1, contact_matrices, linf,
-                  magnitude == "full", spin_weight, friction)
+                  magnitude == "full", spin_weight, friction, span)
 
 
 class _ContactsRoot:
@@ -191,6 +240,19 @@ class _ContactsHull(_ContactsRoot, Hull):
 
 class _ContactsSum(_ContactsRoot, MinkowskiSum):
     pass
+
+
+class _ContactsProjection(_ContactsRoot, Affine):
+    """A template's image of the contacts' set in a rank-deficient grasp's span: `matrix` is
+    set when it is made, the hull or sum it maps built on first read."""
+
+    @property
+    def inner(self):
+        inner = self.__dict__.get("_inner")
+        if inner is None:
+            _, _, lifted, linf = self._made_of
+            inner = self._inner = (minkowski_sum if linf and not lifted else hull)(*self.sets)
+        return inner
 
 
 # a contact's entries in a grasp's values after the G_i (`grasp_values`)
@@ -224,6 +286,11 @@ class _Template:
 
     def __init__(self, target, kinds, magnitude, lifted, linf):
         ints, floats = target.set.program
+        # a projected set (a rank-deficient grasp's) is the affine image of the contacts' root:
+        # its map's entries are the grasp's own, written at each target
+        self.projected = len(target.span) > 0
+        root = children(ints, 0)[0] if self.projected else 0
+        self.map_start = param_start(ints, 0) + 2
         reader = target.compiled_args[2]
         # copies taken before any shot: the kernel writes into ints (choice, active) and floats
         # (scratch)
@@ -233,6 +300,7 @@ class _Template:
         self.dim = target.set.dim
         self.t_scale, self.extra, self.packed_size = (target.t_scale, target.extra,
                                                       target.packed_size)
+        self.ray_dims = target.ray_dims
         self.made_of = (magnitude, lifted, linf)
         m = len(kinds)
         coef = lambda i, which: 24 * m + _PER_CONTACT * i + which      # noqa: E731
@@ -249,7 +317,7 @@ class _Template:
         read_dst = list(range(g_start, maps_start))
         read_src = (list(range(24 * m)) + [coef(i, _SPIN_WEIGHT) for i in range(m)]
                     + [coef(i, _MU) for i in range(m)] + [coef(i, _MU_SPIN) for i in range(m)])
-        for i, (part, kind) in enumerate(zip(children(ints, 0), kinds)):
+        for i, (part, kind) in enumerate(zip(children(ints, root), kinds)):
             # the contact's W_i: the root's child, or its child under a lift's embedding, or
             # the second child of a sum's hull of the origin and W_i
             node = part if not (lifted or linf) else children(ints, part)[-1]
@@ -288,16 +356,23 @@ class _Template:
         self.add = np.array(add)
         self.read_dst, self.read_src = as_index(read_dst), as_index(read_src)
 
-    def target(self, contacts, values):
+    def target(self, contacts, values, span=None):
         """The Target of these contacts (of this template's structure), values their
-        `grasp_values`."""
+        `grasp_values`; span: their Q^T (`wrench_span`) when the template's set is projected."""
         floats = self.floats.copy()
         floats[self.dst] = values[self.src] * values[self.scale] + self.add
         reader = self.reader.copy()
         reader[self.read_dst] = values[self.read_src]
         magnitude, lifted, linf = self.made_of
-        cls = _ContactsSum if linf and not lifted else _ContactsHull
+        if self.projected:
+            cls = _ContactsProjection
+            M = projection(span, len(contacts), lifted)
+            floats[self.map_start:self.map_start + M.size] = M.ravel()
+        else:
+            cls = _ContactsSum if linf and not lifted else _ContactsHull
         root = cls.__new__(cls)
+        if self.projected:
+            root.matrix, root.offset = M, np.zeros(M.shape[0])
         root.dim = self.dim
         root._made_of = (contacts, magnitude, lifted, linf)
         ints = self.ints.copy()
@@ -308,7 +383,9 @@ class _Template:
         target.set = root
         target.t_scale, target.extra, target.packed_size = (self.t_scale, self.extra,
                                                             self.packed_size)
-        target.compiled_args = (ints, floats, reader)
+        target.span = NO_SPAN if span is None else span.ravel()
+        target.ray_dims = self.ray_dims
+        target.compiled_args = (ints, floats, reader, target.span)
         return target
 
 
@@ -327,7 +404,8 @@ MAX_TEMPLATES = 256     # structures kept (a robot's contact sets, a service's g
 class WrenchSpace:
     """W (eq. 14) for a list of contacts; contact_matrices: the contacts' G_i, (m, 6, 4).
     `set` is W in R^6; `target(method)` the compiled set min_force shoots at with that method
-    (W, or W_Linf's lift for LIFTED_METHODS), built on first use."""
+    (W, or W_Linf's lift for LIFTED_METHODS, or its image in the span of a rank-deficient
+    grasp's wrenches), built on first use."""
 
     def __init__(self, contacts, norm, magnitude, contact_matrices, values=None):
         self.norm = norm
@@ -350,34 +428,48 @@ class WrenchSpace:
         """W in R^6 (built on first read: min_force on W_Linf's lift does not need it)."""
         return self._target(False).set
 
-    def target(self, method):
-        """The Target that min_force shoots at with `method` (a name of gf.METHODS)."""
-        target = self._by_method.get(method)
+    def target(self, method, full=False):
+        """The Target that min_force shoots at with `method` (a name of gf.METHODS): in the span
+        of a rank-deficient grasp's wrenches (`wrench_span`) unless `full`."""
+        target = self._by_method.get((method, full))
         if target is None:
-            target = self._by_method[method] = self._target(
-                self.norm == "Linf" and 1 < len(self._contacts) <= LIFT_MAX_CONTACTS
-                and method in LIFTED_METHODS)
+            lifted = (self.norm == "Linf" and 1 < len(self._contacts) <= LIFT_MAX_CONTACTS
+                      and method in LIFTED_METHODS)
+            span = None if full else self.span
+            target = self._by_method[(method, full)] = self._target(lifted, span)
         return target
 
-    def _target(self, lifted):
-        """The Target on W, or on W_Linf's lift; built once, from its structure's template
-        (made by the generic compiler at the structure's first grasp)."""
-        target = self._targets.get(lifted)
+    @property
+    def span(self):
+        """Q^T of the contacts' wrenches' span when it is not R^6 (`wrench_span`), else None;
+        computed on first use."""
+        try:
+            return self._span
+        except AttributeError:
+            self._span = wrench_span(self._contacts, self._matrices)
+            return self._span
+
+    def _target(self, lifted, span=None):
+        """The Target on W, or on W_Linf's lift, or on its image in a span Q^T; built once, from
+        its structure's template (made by the generic compiler at the structure's first grasp)."""
+        projected = span is not None
+        target = self._targets.get((lifted, projected))
         if target is None:
             contacts = self._contacts
             kinds = tuple((c.mu > 0.0) + (c.mu_spin > 0.0) for c in contacts)
             linf = self.norm == "Linf"
-            key = (kinds, self.magnitude, lifted, linf)
+            # a projected structure is a template of its own, per dimension of the span
+            key = (kinds, self.magnitude, lifted, linf, 6 if span is None else span.shape[0])
             template = _TEMPLATES.get(key)
             if template is not None:
                 if self._values is None:
                     self._values = grasp_values(contacts)
-                target = template.target(contacts, self._values)
+                target = template.target(contacts, self._values, span)
             else:
                 target = generic_target(contacts, self.norm, self.magnitude, self._matrices,
-                                        self.spin_weight, lifted)
+                                        self.spin_weight, lifted, span)
                 if len(_TEMPLATES) >= MAX_TEMPLATES:
                     _TEMPLATES.pop(next(iter(_TEMPLATES)), None)
                 _TEMPLATES[key] = _Template(target, kinds, self.magnitude, lifted, linf)
-            self._targets[lifted] = target
+            self._targets[(lifted, projected)] = target
         return target

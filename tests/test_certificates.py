@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 import graspforce as gf
 import truth as T
 from grasp_cases import plain, random_grasp, random_wrench
-from test_grasp_forces import edge_of_cone_cases
+from test_grasp_forces import edge_of_cone_cases, wrench_normal
 
 METHODS = list(gf.METHODS)
 OBJECTIVES = [("L1", "normal"), ("Linf", "normal"), ("L1", "full"), ("Linf", "full")]
@@ -76,7 +76,7 @@ def check_optimal(grasp, P, w, res, ctx):
     # For the wrench these forces resist exactly (their resultant), sigma may not lie below it;
     # for -w_ext it is the answer's sigma_lower, recomputed with truth's support, within eps of
     # sigma either way (the forces resist w_ext only to RESIDUAL)
-    n = np.asarray(res.shot.normal)[-6:]
+    n = wrench_normal(res)
     h = T.grasp_support(P, n, res.norm, res.magnitude)
     assert n @ resultant > 0 and n @ (-w) > 0, ctx
     # a normal nearly orthogonal to r bounds nothing to eps: n.r, a sum of 6 products, is
@@ -111,7 +111,7 @@ def check_infeasible(P, w, res, ctx):
     largest extent along an axis); no forces."""
     assert not res.feasible and res.sigma == math.inf, ctx
     assert not np.asarray(res.forces).any(), ctx
-    n = np.asarray(res.shot.normal)[-6:]
+    n = wrench_normal(res)
     assert n @ (-w) > 0, ctx
     h = T.grasp_support(P, n, res.norm, res.magnitude)
     size = math.sqrt(6.0) * grasp_size(P, res.norm, res.magnitude)
@@ -123,7 +123,7 @@ def check_open(P, w, res, ctx):
     proves (re-evaluated with truth's support)."""
     assert res.status == "max_iter", ctx
     if res.sigma_lower > 0.0:
-        n = np.asarray(res.shot.normal)[-6:]
+        n = wrench_normal(res)
         r = -np.asarray(w, dtype=float)
         assert n @ r > 0, ctx
         h = T.grasp_support(P, n, res.norm, res.magnitude)

@@ -77,6 +77,8 @@ def check_same_target(fast, generic):
     assert same_bits(fi, gi)
     assert same_bits(ff, gfl)
     assert same_bits(fast.compiled_args[2], generic.compiled_args[2])    # the force reader
+    assert same_bits(fast.compiled_args[3], generic.compiled_args[3])    # the span
+    assert fast.ray_dims == generic.ray_dims
     assert fast.compiled_args[0] is fi and fast.compiled_args[1] is ff
     assert list(fast.set._witness_slots) == list(generic.set._witness_slots)
     assert fast.set.witness_size == generic.set.witness_size
@@ -95,16 +97,21 @@ def test_template_targets_equal_the_generic_compile(m, norm, magnitude):
     for seed in range(6):
         grasp = seeded_grasp(100 * m + seed, m)
         # the template comes from another grasp of the same kinds
+        # (a rank-deficient grasp's: in the span of its wrenches, and in R^6 for loads outside)
         seed_space = same_kinds(grasp, seed + 1)._space(norm, magnitude)
         for method in ("zc-ie", "gjk"):
-            seed_space.target(method)
+            for full in (False, True):
+                seed_space.target(method, full)
         for method in ("zc-ie", "gjk"):
-            space = grasp._space(norm, magnitude)
-            fast = space.target(method)
-            lifted = fast.t_scale != 1
-            generic = WS.generic_target(grasp.contacts, norm, magnitude, grasp.contact_matrices,
-                                        space.spin_weight, lifted)
-            check_same_target(fast, generic)
+            for full in (False, True):
+                space = grasp._space(norm, magnitude)
+                fast = space.target(method, full)
+                lifted = fast.t_scale != 1
+                span = None if full else space.span
+                generic = WS.generic_target(grasp.contacts, norm, magnitude,
+                                            grasp.contact_matrices, space.spin_weight, lifted,
+                                            span)
+                check_same_target(fast, generic)
 
 
 @pytest.mark.parametrize("norm, magnitude", OBJECTIVES)

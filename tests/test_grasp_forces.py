@@ -53,12 +53,22 @@ def check_forces(grasp, w, res, residual_vs_w=True, residual_tol=RESIDUAL_TOL):
                                       rel=1e-14)
 
 
+def wrench_normal(res):
+    """The normal of W in R^6 that min_force's shot holds: its normal's wrench part (for Linf the
+    shot is on W_Linf's lift), after P^T when the shot is on the image P A of a rank-deficient
+    grasp's set in its span (MinForce.shot)."""
+    shot = res.shot
+    n = np.asarray(shot.normal)
+    if isinstance(shot.convex_set, gf.sets.Affine):
+        n = shot.convex_set.matrix.T @ n
+    return n[-6:]
+
+
 def certified_gap(grasp, w, res):
     """(sigma - n.r / h_W(n)) / sigma with the library's normal n and truth's support: an upper
-    bound of sigma's relative error that does not trust graspforce's support functions. For Linf
-    the shot is on W_Linf's lift; its normal's wrench part is a normal of W_Linf
-    (MinForce.shot)."""
-    n = res.shot.normal[-6:]
+    bound of sigma's relative error that does not trust graspforce's support functions
+    (`wrench_normal`)."""
+    n = wrench_normal(res)
     r = -np.asarray(w, dtype=float)
     assert n @ r > 0
     lower = (n @ r) / T.grasp_support(plain(grasp), n, res.norm, res.magnitude)
@@ -168,7 +178,7 @@ def check_infeasible(grasp, w, res):
     assert not res.forces.any() and not res.resultant.any()
     # the certificate: a direction n with n.r > 0 in which W does not extend (to rounding of
     # W's size: 1e-11 is ~100 ulps of sums of up to 8 support values)
-    n = res.shot.normal[-6:]
+    n = wrench_normal(res)
     P = plain(grasp)
     size = max(T.grasp_support(P, e, res.norm, res.magnitude)
                for e in np.vstack((np.eye(6), -np.eye(6))))
@@ -349,7 +359,7 @@ def test_every_method_leaves_the_lift_of_a_doubled_point_contact(method):
     f = np.array([1.5, 0.84 * (1 - 1e-9), -0.63 * (1 - 1e-9), 0.0])
     contact = gf.Contact([0.03, -0.02, 0.05], [0.2, -0.3, -1.0], 0.7, 0.0)
     w = -(contact.matrix @ f)
-    lift = gf.Grasp([contact, contact])._space("Linf", "normal").target("ie").set
+    lift = gf.Grasp([contact, contact])._space("Linf", "normal").target("ie", full=True).set
     assert lift.dim == 7
     res = gf.ray_shoot(lift, np.r_[0.0, -w], method=method)
     assert res.status == "hit"
@@ -451,7 +461,7 @@ def test_wrenches_of_any_type_and_layout_agree():
     # unconverted
     from graspforce._core import HIT, shoot_and_read_forces
     from graspforce._start_table import start_table
-    _, code, shoot, args, A, size, _, _ = grasp._call("L1", "normal", "zc-ie")
+    _, code, shoot, args, A, size, _, _, _ = grasp._call("L1", "normal", "zc-ie")
     assert shoot is shoot_and_read_forces
     packed = np.empty(size)
 

@@ -1,6 +1,7 @@
 """min_force over many wrenches (one compiled parallel loop) and over many grasps."""
 import numpy as np
 
+from .._core import batch as _codes
 from .._core import min_force_rows
 from .._start_table import NO_TABLE, SEEN_ONCE, start_table
 from .._validate import finite_vector
@@ -9,25 +10,48 @@ from ._check import check_grasp, thread_count, wrench_rows
 from .result import BatchForces
 
 
-def prepared_call(grasp, norm, magnitude, method, table=True):
+def prepared_call(grasp, norm, magnitude, method, table=True, full=False):
     """What the compiled loop needs of (norm, magnitude, method), as Grasp.min_force passes it to
     shoot_and_read_forces: (method code, packed size, start table, ints, floats, force reader,
-    t_scale). With `table`, the start table is built here if the grasp has not been shot twice
-    yet, so every row starts from it, as Grasp.min_force's calls do from their second on;
-    without, rows start as a new grasp's first call does."""
+    span, t_scale). With `table`, the start table is built here if the grasp has not been shot
+    twice yet, so every row starts from it, as Grasp.min_force's calls do from their second on;
+    without, rows start as a new grasp's first call does. full: the set in R^6 that answers
+    loads outside a rank-deficient grasp's span (Grasp._call)."""
     check_grasp(grasp)
-    call = grasp._calls.get((norm, magnitude, method)) if _hashable(norm, magnitude, method) \
-        else None
+    key = (norm, magnitude, method) + ((True,) if full else ())
+    call = grasp._calls.get(key) if _hashable(norm, magnitude, method) else None
     if call is None:
-        call = grasp._call(norm, magnitude, method)
-    _space, code, _shoot, args, A, size, _extra, t_scale = call
+        call = grasp._call(norm, magnitude, method, full)
+    _space, code, _shoot, args, A, size, _extra, t_scale, ray_dims = call
     start = NO_TABLE
     if table:
-        start = start_table(A, 6)
+        start = start_table(A, ray_dims)
         if A._start_table is SEEN_ONCE:      # a set's first shot takes none: build it now
-            start = start_table(A, 6)
-    ints, floats, reader = args
-    return code, size, start, ints, floats, reader, float(t_scale)
+            start = start_table(A, ray_dims)
+    ints, floats, reader, span = args
+    return code, size, start, ints, floats, reader, span, float(t_scale)
+
+
+def _rows(grasp, rows, prepared, norm, magnitude, method, eps, max_iter, forces, threads, table):
+    """(sigma, sigma_lower, status, iterations, forces (N, m, 4) or an empty array) of the
+    compiled loop over `rows` with `prepared_call`'s arguments; the rows whose load leaves a
+    rank-deficient grasp's span are answered again on the full-dimensional set, as
+    Grasp.min_force answers them."""
+    n = rows.shape[0]
+    out = (np.empty(n), np.empty(n), np.empty(n, np.int64), np.empty(n, np.int64),
+           np.empty((n, len(grasp), 4)) if forces else np.empty(0))
+    code, size, start, ints, floats, reader, span, t_scale = prepared
+    min_force_rows(rows, code, eps, max_iter, size, start, ints, floats, reader, span, t_scale,
+                   *out[:4], out[4].reshape(-1), threads)
+    off = np.flatnonzero(out[2] == _codes.FULL_SET)
+    if len(off):
+        full = prepared_call(grasp, norm, magnitude, method, table, full=True)
+        again = _rows(grasp, rows[off], full, norm, magnitude, method, eps, max_iter, forces,
+                      threads, table)
+        for whole, part in zip(out, again):
+            if len(whole):
+                whole[off] = part
+    return out
 
 
 def _hashable(*values):
@@ -51,20 +75,12 @@ def min_force(grasp, wrenches, norm="L1", magnitude="normal", method="zc-ie", ep
         from .distributed import min_force_on_cluster
         return min_force_on_cluster(client, grasp, wrenches, norm, magnitude, method, eps,
                                     max_iter, forces, chunk_size)
-    code, size, start, ints, floats, reader, t_scale = prepared_call(grasp, norm, magnitude,
-                                                                      method)
+    prepared = prepared_call(grasp, norm, magnitude, method)
     eps, max_iter = check_tolerances(eps, max_iter)
     rows = wrench_rows(wrenches)
-    threads = thread_count(threads)
-    n = rows.shape[0]
-    m = len(grasp)
-    sigma = np.empty(n)
-    lower = np.empty(n)
-    status = np.empty(n, np.int64)
-    iterations = np.empty(n, np.int64)
-    out_forces = np.empty((n, m, 4)) if forces else np.empty(0)
-    min_force_rows(rows, code, eps, max_iter, size, start, ints, floats, reader, t_scale, sigma,
-                   lower, status, iterations, out_forces.reshape(-1), threads)
+    sigma, lower, status, iterations, out_forces = _rows(
+        grasp, rows, prepared, norm, magnitude, method, eps, max_iter, forces,
+        thread_count(threads), True)
     return BatchForces(sigma, lower, status.astype(np.int8), iterations.astype(np.int32),
                        out_forces if forces else None)
 
@@ -94,12 +110,9 @@ def min_force_grasps(grasps, wrench, norm="L1", magnitude="normal", method="zc-i
     iterations = np.empty(n, np.int64)
     found = [] if forces else None
     for i, g in enumerate(grasps):
-        code, size, start, ints, floats, reader, t_scale = prepared_call(g, norm, magnitude,
-                                                                          method, table=False)
-        f = np.empty((len(g), 4)) if forces else np.empty(0)
-        min_force_rows(row, code, eps, max_iter, size, start, ints, floats, reader, t_scale,
-                       sigma[i:i + 1], lower[i:i + 1], status[i:i + 1], iterations[i:i + 1],
-                       f.reshape(-1), 1)
+        prepared = prepared_call(g, norm, magnitude, method, table=False)
+        sigma[i:i + 1], lower[i:i + 1], status[i:i + 1], iterations[i:i + 1], f = _rows(
+            g, row, prepared, norm, magnitude, method, eps, max_iter, forces, 1, False)
         if forces:
-            found.append(f)
+            found.append(f[0])
     return BatchForces(sigma, lower, status.astype(np.int8), iterations.astype(np.int32), found)
