@@ -158,14 +158,14 @@ NB_MODULE(_core, m) {
             nb::gil_scoped_release nogil;
             gf::min_force_rows(mat(wrenches), method, eps, max_iter, packed_size, vec(start),
                                ivec(ints), vec(floats), vec(reader), vec(span), t_scale,
-                               vec(sigma),
-                               vec(sigma_lower), ivec(status), ivec(iterations), vec(forces),
-                               threads);
+                               vec(sigma), vec(sigma_lower), ivec(status), ivec(iterations),
+                               vec(forces), threads);
         },
         "wrenches"_a.noconvert(), "method"_a, "eps"_a, "max_iter"_a, "packed_size"_a,
         "start"_a.noconvert(), "ints"_a.noconvert(), "floats"_a.noconvert(),
-        "reader"_a.noconvert(), "span"_a.noconvert(), "t_scale"_a, "sigma"_a.noconvert(), "sigma_lower"_a.noconvert(),
-        "status"_a.noconvert(), "iterations"_a.noconvert(), "forces"_a.noconvert(), "threads"_a,
+        "reader"_a.noconvert(), "span"_a.noconvert(), "t_scale"_a, "sigma"_a.noconvert(),
+        "sigma_lower"_a.noconvert(), "status"_a.noconvert(), "iterations"_a.noconvert(),
+        "forces"_a.noconvert(), "threads"_a,
         "min_force for every row of wrenches (N, 6) on `threads` threads (0: all cores); the "
         "outputs are written in place (forces: empty, or (N, m, 4) flattened).");
 

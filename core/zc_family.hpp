@@ -723,7 +723,7 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
 // [Pz_0 .. Pz_{n-1}]^{-1} when it is known (a start table's facet, start_table.hpp), else 0
 // rows. directions: with WITH_IE and kz = n, the unit directions whose support points Pz[:kz]
 // are (warm.hpp's probes), which turn on the secant query (docs/core-api.md), else 0 rows.
-// Pz, Wz, lz have n + 2 rows. Runs the loop compiled for r's dimension (3, 6, 9, else any).
+// Pz, Wz, lz have n + 2 rows. Runs the loop compiled for r's dimension (3, 5, 6, 9, else any).
 Shot zc_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int mode,
              double t, Mat Pz, Mat Wz, Vec lz, Int kz, Int it, Int calls, Mat inverse,
              Mat directions) {
@@ -738,6 +738,9 @@ Shot zc_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                           calls, inverse, directions, w);
     if (n == 9)
         return zc_loop<9>(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it,
+                          calls, inverse, directions, w);
+    if (n == 5)
+        return zc_loop<5>(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it,
                           calls, inverse, directions, w);
     return zc_loop<0>(ints, floats, r, ws, eps, max_iter, mode, t, Pz, Wz, lz, kz, it, calls,
                       inverse, directions, w);

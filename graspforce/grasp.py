@@ -3,7 +3,7 @@ import math
 
 import numpy as np
 
-from ._core import BAD_WRENCH, HIT, MISS, FULL_SET, ZERO_WRENCH, shoot_and_read_forces
+from ._core import BAD_WRENCH, FULL_SET, HIT, MISS, ZERO_WRENCH, shoot_and_read_forces
 from ._start_table import UNSEEN, start_table
 from ._validate import check_choice, finite_array, finite_vector, is_vector
 from .contact import Contact

@@ -39,7 +39,8 @@ them: rank 5) has a flat W, which gets no start table and on which IE and ZC tak
 min_force then shoots at the image Q^T W in R^k (or block-diag(I, Q^T) of the lift), Q an
 orthonormal basis of the range of the contacts' maps (`wrench_span`), along Q^T r: the same t,
 the forces read off the same witnesses. A load farther than 1e-10 |w_ext| from the range
-(core/forces.hpp, SPAN_TOL) is shot at the full-dimensional set instead.
+(core/forces.hpp, SPAN_TOL), or one whose shot there ends without a certified hit or miss, is
+shot at the full-dimensional set instead.
 """
 import numpy as np
 
@@ -103,23 +104,28 @@ LIFTED_METHODS = ("ie", "zc-ie")
 # 1.02, 1.28 before)
 LIFT_MAX_CONTACTS = 6
 # singular values of the contacts' maps below this fraction of the largest count as zero: an exact
-# deficiency leaves ~1e-16, and the part of W it drops is within the certificate's 1e-9 residual
+# deficiency leaves ~1e-16 (the rounding of G_i); where the dropped part spoils an answer, its
+# certificate in R^6 fails and the full-dimensional set answers
 RANK_TOL = 1e-12
 NO_SPAN = np.empty(0)      # the span argument of a set shot in R^6 (core/forces.hpp)
+_UNKNOWN = object()        # a wrench space's span before it is first needed
 
 
-def wrench_span(contacts, contact_matrices):
+def contact_kinds(contacts):
+    """Per contact 0 frictionless, 1 point, 2 soft."""
+    return tuple((c.mu > 0.0) + (c.mu_spin > 0.0) for c in contacts)
+
+
+def wrench_span(kinds, contact_matrices):
     """Q^T (k, 6), Q an orthonormal basis of the range of the contacts' maps (the columns of G_i
     each contact's cone uses: f_1, the tangential forces with friction, the spin moment of a soft
     finger), when its rank k is below 6; None otherwise. Only grasps of at most two contacts or
     of fewer than six force components are examined (an SVD, ~10 us): a fresh grasp of more
-    contacts pays nothing, and is shot in R^6 even when deficient (three collinear point
+    contacts pays three counts, and is shot in R^6 even when deficient (three collinear point
     contacts)."""
-    cols = [[0] + ([1, 2] if c.mu > 0.0 else []) + ([3] if c.mu_spin > 0.0 else [])
-            for c in contacts]
-    if len(contacts) > 2 and sum(len(used) for used in cols) >= 6:
+    if len(kinds) > 2 and kinds.count(0) + 3 * kinds.count(1) + 4 * kinds.count(2) >= 6:
         return None
-    M = np.hstack([G[:, used] for G, used in zip(contact_matrices, cols)])
+    M = np.hstack([G[:, :(1, 3, 4)[kind]] for G, kind in zip(contact_matrices, kinds)])
     U, s, _ = np.linalg.svd(M)
     k = int(np.count_nonzero(s > RANK_TOL * s[0]))
     return U[:, :k].T.copy() if k < 6 else None
@@ -435,28 +441,30 @@ class WrenchSpace:
         if target is None:
             lifted = (self.norm == "Linf" and 1 < len(self._contacts) <= LIFT_MAX_CONTACTS
                       and method in LIFTED_METHODS)
-            span = None if full else self.span
-            target = self._by_method[(method, full)] = self._target(lifted, span)
+            target = self._by_method[(method, full)] = self._target(lifted, not full)
         return target
 
     @property
     def span(self):
         """Q^T of the contacts' wrenches' span when it is not R^6 (`wrench_span`), else None;
         computed on first use."""
-        try:
-            return self._span
-        except AttributeError:
-            self._span = wrench_span(self._contacts, self._matrices)
-            return self._span
+        return self._span_of(contact_kinds(self._contacts))
 
-    def _target(self, lifted, span=None):
-        """The Target on W, or on W_Linf's lift, or on its image in a span Q^T; built once, from
-        its structure's template (made by the generic compiler at the structure's first grasp)."""
-        projected = span is not None
-        target = self._targets.get((lifted, projected))
+    def _span_of(self, kinds):
+        span = self.__dict__.get("_span", _UNKNOWN)
+        if span is _UNKNOWN:
+            span = self._span = wrench_span(kinds, self._matrices)
+        return span
+
+    def _target(self, lifted, in_span=False):
+        """The Target on W, or on W_Linf's lift, or (in_span) on its image in the span of a
+        rank-deficient grasp's wrenches; built once, from its structure's template (made by the
+        generic compiler at the structure's first grasp)."""
+        contacts = self._contacts
+        kinds = contact_kinds(contacts)
+        span = self._span_of(kinds) if in_span else None
+        target = self._targets.get((lifted, span is not None))
         if target is None:
-            contacts = self._contacts
-            kinds = tuple((c.mu > 0.0) + (c.mu_spin > 0.0) for c in contacts)
             linf = self.norm == "Linf"
             # a projected structure is a template of its own, per dimension of the span
             key = (kinds, self.magnitude, lifted, linf, 6 if span is None else span.shape[0])
@@ -471,5 +479,5 @@ class WrenchSpace:
                 if len(_TEMPLATES) >= MAX_TEMPLATES:
                     _TEMPLATES.pop(next(iter(_TEMPLATES)), None)
                 _TEMPLATES[key] = _Template(target, kinds, self.magnitude, lifted, linf)
-            self._targets[(lifted, projected)] = target
+            self._targets[(lifted, span is not None)] = target
         return target
