@@ -26,6 +26,7 @@ B(sigma) in {x : n^T x >= n^T point_b}. So n, normalized, is the contact normal 
 (exact for the returned hyperplane; z is within eps of the plane, so these hold to eps).
 """
 import math
+import threading
 
 import numpy as np
 
@@ -55,21 +56,27 @@ def growth_distance(A, pose_a, B, pose_b, method="zc-ie", eps=1e-9, max_iter=100
     pinocchio.SE3. Returns a GrowthDistanceResult: sigma with its bracket, status, point_a,
     point_b, normal. eps: relative bracket width (sigma_upper / sigma_lower - 1 <= eps).
 
-    The last 64 pairs (A, B) stay compiled, so repeated calls on the same set objects cost what
-    `GrowthDistance(A, B)(pose_a, pose_b)` costs; no warm start (the answer depends only on the
-    arguments).
+    The last 64 pairs (A, B) of the calling thread stay compiled, so repeated calls on the same
+    set objects cost what `GrowthDistance(A, B)(pose_a, pose_b)` costs; no warm start (the
+    answer depends only on the arguments).
     """
     key = (id(A), id(B), method, eps, max_iter, touching_tol)
-    solver = _RECENT.get(key)
+    try:
+        recent = _RECENT.solvers
+    except AttributeError:
+        recent = _RECENT.solvers = {}
+    solver = recent.get(key)
     if solver is None or solver.A is not A or solver.B is not B:
         solver = GrowthDistance(A, B, method, eps, max_iter, touching_tol, warm_start=False)
-        if len(_RECENT) >= 64:
-            _RECENT.pop(next(iter(_RECENT)))
-        _RECENT[key] = solver
+        if len(recent) >= 64:
+            recent.pop(next(iter(recent)))
+        recent[key] = solver
     return solver(pose_a, pose_b)
 
 
-_RECENT = {}
+# a GrowthDistance writes each query's poses into its program: the recent solvers are kept per
+# thread, so that threads calling growth_distance on the same shapes never share one
+_RECENT = threading.local()
 
 
 class GrowthDistance:
