@@ -1,7 +1,7 @@
 #pragma once
 
 #include "api.hpp"
-#include "kernel.hpp"
+#include "geometry/kernel.hpp"
 
 // The support of one smooth piece of a set, with its curvature: what a second-order finish needs.
 //

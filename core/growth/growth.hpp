@@ -1,8 +1,8 @@
 #pragma once
 
 #include "api.hpp"
-#include "packed.hpp"
-#include "warm.hpp"
+#include "shooting/packed.hpp"
+#include "shooting/warm.hpp"
 
 // The compiled growth-distance query: one call from Python per pair of poses (section 4.1).
 //

@@ -19,8 +19,8 @@
 #include <thread>
 #include <vector>
 
-#include "forces.hpp"
-#include "growth.hpp"
+#include "grasping/forces.hpp"
+#include "growth/growth.hpp"
 
 namespace gf {
 

@@ -12,10 +12,10 @@
 #include <tuple>
 #include <utility>
 
-#include "python.hpp"
-#include "batch.hpp"
-#include "testing.hpp"
-#include "timing.hpp"
+#include "python/python.hpp"
+#include "python/batch.hpp"
+#include "python/testing.hpp"
+#include "python/timing.hpp"
 
 namespace nb = nanobind;
 using namespace nb::literals;

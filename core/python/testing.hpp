@@ -18,7 +18,7 @@
 #include <tuple>
 #include <utility>
 
-#include "python.hpp"
+#include "python/python.hpp"
 
 namespace gf_testing {
 

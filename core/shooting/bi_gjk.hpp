@@ -1,7 +1,7 @@
 #pragma once
 
 #include "api.hpp"
-#include "gjk_based.hpp"
+#include "shooting/gjk_based.hpp"
 
 // Bi-GJK ray shooting (section 3.4.1): bisection on the ray between a point of A (from ZC, or
 // a start table's facet) and a point outside (from supporting hyperplanes H(n, s_A(n))), each

@@ -1,7 +1,7 @@
 #pragma once
 
 #include "api.hpp"
-#include "corral.hpp"
+#include "shooting/corral.hpp"
 
 // The distance algorithms of section 2: GJK (point to set) and ZC (point to convex cone).
 //

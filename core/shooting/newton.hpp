@@ -1,7 +1,7 @@
 #pragma once
 
 #include "api.hpp"
-#include "piece.hpp"
+#include "geometry/piece.hpp"
 
 // A second-order finish for ray shooting: Newton's method on the pieces that form the exit face.
 //

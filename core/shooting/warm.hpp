@@ -1,7 +1,7 @@
 #pragma once
 
 #include "api.hpp"
-#include "packed.hpp"
+#include "shooting/packed.hpp"
 
 // ZC-IE warm-started from a previous answer's normal (time coherence, the paper's future work).
 //

@@ -1,7 +1,7 @@
 #pragma once
 
 #include "api.hpp"
-#include "shot.hpp"
+#include "shooting/shot.hpp"
 
 // ZC-based ray shooting (section 3.3) and ZC-IE (section 3.4.2), with or without the Newton
 // finish (newton.hpp).

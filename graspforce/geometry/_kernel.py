@@ -25,7 +25,7 @@ active, children, plan] (each block nn long but `children` and the one entry `pl
     plan         how `support` evaluates the program (GENERAL, ELLIPSOID_HULL or POSED_SUM
                  below, decided by `plan_of` when the set compiles)
 """
-from ._core import (AFFINE, BOX, CONE_CAP, ELLIPSOID, ELLIPSOID_HULL, EMBED, GENERAL, HULL,
+from .._core import (AFFINE, BOX, CONE_CAP, ELLIPSOID, ELLIPSOID_HULL, EMBED, GENERAL, HULL,
                     ORIGIN_EMBED, POLYTOPE, POSED_SUM, SUM, TRUNCATED_CONE, support)
 
 __all__ = ["AFFINE", "BOX", "CONE_CAP", "ELLIPSOID", "ELLIPSOID_HULL", "EMBED", "GENERAL", "HULL",

@@ -9,7 +9,7 @@ import numpy as np
 
 from . import _kernel as K
 from ._start_table import UNSEEN
-from ._validate import finite_array, finite_scalar
+from .._validate import finite_array, finite_scalar
 
 
 class ConvexSet:

@@ -3,7 +3,7 @@ import math
 
 import numpy as np
 
-from ._validate import finite_array, finite_scalar, finite_vector3
+from .._validate import finite_array, finite_scalar, finite_vector3
 
 
 class Contact:

@@ -3,13 +3,13 @@ import math
 
 import numpy as np
 
-from ._core import BAD_WRENCH, HIT, MISS, ZERO_WRENCH, shoot_and_read_forces
-from ._start_table import UNSEEN, start_table
-from ._validate import check_choice, finite_array, finite_vector, is_vector
+from .._core import BAD_WRENCH, HIT, MISS, ZERO_WRENCH, shoot_and_read_forces
+from ..geometry._start_table import UNSEEN, start_table
+from .._validate import check_choice, finite_array, finite_vector, is_vector
 from .contact import Contact
 from .quality import facet_expansion, grasp_quality
-from .ray_shoot import METHODS, check_tolerances
-from .results import MinForce, MinForceBatch
+from ..shooting.ray_shoot import METHODS, check_tolerances
+from ..records.results import MinForce, MinForceBatch
 from .wrench_space import MAGNITUDES, NORMS, WrenchSpace, contact_set, grasp_values
 
 
@@ -120,7 +120,7 @@ class Grasp:
         with summary statistics. The rows are one compiled parallel loop (gf.batch.min_force);
         each entry equals min_force(wrenches[i], ...) on a grasp shot before (its start table
         built)."""
-        from .batch.forces import min_force as min_force_rows
+        from ..batch.forces import min_force as min_force_rows
         W = finite_array(wrenches, "wrenches", ndim=2)
         if W.shape[1] != 6:
             raise ValueError(f"wrenches: expected shape (k, 6), got {W.shape}")

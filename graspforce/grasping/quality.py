@@ -21,7 +21,7 @@ import math
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
-from .results import GraspQuality
+from ..records.results import GraspQuality
 
 FLAT = 1e-13       # W's extent along a normal below this fraction of its largest width is rounding
 

@@ -36,10 +36,11 @@ whose weights sum to 1/m.
 """
 import numpy as np
 
-from ._core import capacity, extra_size
-from ._forces import force_reader
-from ._kernel import children, param_start
-from .sets import ConeCap, Ellipsoid, Hull, MinkowskiSum, Polytope, affine, hull, minkowski_sum
+from .._core import capacity, extra_size
+from ..records._forces import force_reader
+from ..geometry._kernel import children, param_start
+from ..geometry.sets import (ConeCap, Ellipsoid, Hull, MinkowskiSum, Polytope, affine, hull,
+                             minkowski_sum)
 
 NORMS = ("L1", "Linf")
 MAGNITUDES = ("normal", "full")

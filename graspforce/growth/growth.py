@@ -29,17 +29,17 @@ import math
 
 import numpy as np
 
-from ._core import capacity
-from ._core import growth_query as query
-from ._core.growth import (BAD_POSE_A, COINCIDENT, EPS, FRAME, MA, MAX_ITER, MB, METHOD,
+from .._core import capacity
+from .._core import growth_query as query
+from .._core.growth import (BAD_POSE_A, COINCIDENT, EPS, FRAME, MA, MAX_ITER, MB, METHOD,
                            NOT_CERTIFIED, OK, PENETRATING, POSES, SEPARATED, SPREAD, TAIL,
                            TOUCHING, TOUCHING_TOL, WARM_SPREAD, WARM_START, WS)
-from ._kernel import children, param_start
-from ._validate import check_choice, finite_array
-from .quality import facet_expansion
-from .ray_shoot import METHODS, check_tolerances
-from .results import GrowthDistanceResult, RayShot
-from .sets import (Affine, Ball, ConvexSet, Ellipsoid, Leaf, MinkowskiSum, Polytope,
+from ..geometry._kernel import children, param_start
+from .._validate import check_choice, finite_array
+from ..grasping.quality import facet_expansion
+from ..shooting.ray_shoot import METHODS, check_tolerances
+from ..records.results import GrowthDistanceResult, RayShot
+from ..geometry.sets import (Affine, Ball, ConvexSet, Ellipsoid, Leaf, MinkowskiSum, Polytope,
                    TruncatedCone, _AxisBox)
 
 ORIGIN_TOL = 1e-9      # an origin closer than this fraction of the set's width to its boundary

@@ -2,7 +2,7 @@
 (the compiled reading is core/forces.hpp's `contact_forces`, run on every min_force call)."""
 import numpy as np
 
-from ._core.forces import READER_HEAD
+from .._core.forces import READER_HEAD
 
 # rows of a wrench space's leaf table (graspforce.wrench_space.Target._table)
 CONTACT, SLOT, SIZE, MAP = 0, 1, 2, 3

@@ -6,7 +6,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ._core import HIT, LIMIT, MISS
+from .._core import HIT, LIMIT, MISS
 from ._forces import force_views
 from ._packed import unpack
 

@@ -1,10 +1,10 @@
 """gf.closest_point (GJK, section 2.2) and gf.cone_distance (ZC, section 2.3)."""
 import numpy as np
 
-from . import _core as D
-from ._validate import finite_array, finite_scalar, positive_int
-from .results import ClosestPoint, ConeDistance
-from .sets import ConvexSet
+from .. import _core as D
+from .._validate import finite_array, finite_scalar, positive_int
+from ..records.results import ClosestPoint, ConeDistance
+from ..geometry.sets import ConvexSet
 
 
 def _check(A, b, eps, max_iter):

@@ -3,12 +3,12 @@ import math
 
 import numpy as np
 
-from . import _core as S
-from ._core import BAD_RAY, capacity, shoot_packed
-from ._start_table import start_table
-from ._validate import check_choice, finite_scalar, finite_vector, is_vector, positive_int
-from .results import RayShot
-from .sets import ConvexSet
+from .. import _core as S
+from .._core import BAD_RAY, capacity, shoot_packed
+from ..geometry._start_table import start_table
+from .._validate import check_choice, finite_scalar, finite_vector, is_vector, positive_int
+from ..records.results import RayShot
+from ..geometry.sets import ConvexSet
 
 METHODS = {"gjk": S.GJK_BASED, "ie": S.IE, "zc": S.ZC_BASED, "bi-gjk": S.BI_GJK,
            "zc-ie": S.ZC_IE, "zc-ie-newton": S.ZC_IE_NEWTON}

@@ -5,10 +5,10 @@ import math
 
 import numpy as np
 
-from .._validate import check_choice, finite_vector
+from ..._validate import check_choice, finite_vector
 from ..contact import Contact
 from ..grasp import Grasp
-from ..results import MinForce
+from ...records.results import MinForce
 from ..wrench_space import MAGNITUDES, NORMS
 
 

@@ -67,7 +67,7 @@ def min_force(grasp, w_ext, norm="L1", magnitude="normal", solver="osqp", faces=
     if magnitude != "normal":
         raise ValueError("magnitude: the pyramid baseline minimizes normal forces (eq. 13) only, "
                          "a linear objective in the generators' weights; use "
-                         "graspforce.baselines.clarabel_socp for 'full'")
+                         "graspforce.grasping.baselines.clarabel_socp for 'full'")
     if solver not in SOLVERS:
         raise ValueError(f"solver: must be one of {list(SOLVERS)} (whose statuses this module "
                          f"maps), got {solver!r}")
