@@ -404,8 +404,8 @@ def test_a_shot_without_steps_is_not_a_hit(method):
     # takes it) never queried a hyperplane: it reported a hit with t_upper = 0/0. Now such a shot
     # is "max_iter" with its honest bracket: t from the facet, t_upper from a hyperplane or inf.
     from graspforce import _core
-    from graspforce._start_table import start_table
-    from graspforce.ray_shoot import shot_layout
+    from graspforce.geometry._start_table import start_table
+    from graspforce.shooting.ray_shoot import shot_layout
     A = gf.Ellipsoid(np.zeros(4), np.diag([1.0, 2.0, 0.5, 1.5]))
     r = np.array([0.3, -0.2, 1.0, 0.5])
     for _ in range(2):

@@ -1,5 +1,5 @@
-"""W_Linf's lift (graspforce.wrench_space): the set that min_force's IE and ZC-IE shoot at for
-norm "Linf", C = CH(U_i {e_i - c} x CH({0} U W_i)) in R^(m + 5), against W_Linf itself and the
+"""W_Linf's lift (graspforce.grasping.wrench_space): the set that min_force's IE and ZC-IE shoot at
+for norm "Linf", C = CH(U_i {e_i - c} x CH({0} U W_i)) in R^(m + 5), against W_Linf itself and the
 closed-form supports of truth.py."""
 import numpy as np
 import pytest
@@ -8,7 +8,7 @@ from grasp_cases import plain, random_grasp, random_wrench
 from grasps import box_grasp
 
 import graspforce as gf
-from graspforce.wrench_space import LIFT_MAX_CONTACTS, LIFTED_METHODS
+from graspforce.grasping.wrench_space import LIFT_MAX_CONTACTS, LIFTED_METHODS
 
 # truth.min_force_socp's accuracy (tests/test_grasp_forces.py, SOCP_TOL)
 SOCP_TOL = 5e-8
@@ -50,7 +50,7 @@ def test_ie_does_not_repeat_a_vertex_at_the_numerical_floor():
     # full magnitude, 3 contacts, eps at the floor (3e-12): IE's updated inverse drifts, so a
     # support point equal to a vertex of the facet can still look beyond it by ~1e-10; the step
     # then replaced that vertex by itself, forever (max_iter). The step now refactors instead
-    # (core/zc_family.hpp). Rays within 1e-9 of one that did this
+    # (core/shooting/zc_family.hpp). Rays within 1e-9 of one that did this
     rng = np.random.default_rng(3)
     # the case found: the fifth of five wrenches on the second random grasp (2, then 3 contacts)
     random_grasp(rng, 2)
@@ -107,8 +107,9 @@ def test_lift_halves_ie_steps_on_the_ingot():
 
 @pytest.mark.parametrize("magnitude", ["normal", "full"])
 def test_second_order_finish_on_the_lift(magnitude):
-    # the lift's contact sets are embeddings [0; I] of the R^6 ones (graspforce._kernel.EMBED):
-    # ZC-IE-Newton's pieces, curvature and flat leaves pass through them (graspforce._piece).
+    # the lift's contact sets are embeddings [0; I] of the R^6 ones
+    # (graspforce.geometry._kernel.EMBED): ZC-IE-Newton's pieces, curvature and flat leaves pass
+    # through them (core/geometry/piece.hpp).
     # Rays towards points of lam_1 W_1 + ... + lam_m W_m (0 < lam_i < 1), inside W_Linf; contacts
     # with friction, at least three (two contacts never hold an object in closure, and rays near
     # the boundary of their wrench cone stall ZC)

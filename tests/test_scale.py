@@ -12,7 +12,7 @@ from grasp_cases import plain, random_grasp, random_wrench
 from grasps import box_grasp, two_finger_pinch
 
 import graspforce as gf
-from graspforce.quality import grasp_quality
+from graspforce.grasping.quality import grasp_quality
 
 SCALES = [1e-9, 1e9]
 OBJECTIVES = [("L1", "normal"), ("Linf", "normal"), ("L1", "full"), ("Linf", "full")]
