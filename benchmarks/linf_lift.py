@@ -27,7 +27,7 @@ def shooting(grasp, magnitude, method, lifted):
     """The grasp, its min_force with `method` shooting at W_Linf's lift or at W_Linf itself
     whatever the number of contacts."""
     space = grasp._space("Linf", magnitude)
-    space._by_method[method] = space._target(lifted)
+    space._by_method[method] = space._target(lifted, space.length)
     return grasp
 
 

@@ -80,8 +80,11 @@ def check_optimal(grasp, P, w, res, ctx):
     h = T.grasp_support(P, n, res.norm, res.magnitude)
     assert n @ resultant > 0 and n @ (-w) > 0, ctx
     # a normal nearly orthogonal to r bounds nothing to eps: n.r, a sum of 6 products, is
-    # rounded by up to 6 ulps of ||n|| ||r||
-    dot_rounding = 6 * np.finfo(float).eps * np.linalg.norm(n) * np.linalg.norm(w) / (n @ (-w))
+    # rounded by up to 6 ulps of ||n|| ||r|| in the units the shot is made in, (force,
+    # torque / L) (Grasp.length), where n's torque part is L times the one returned
+    units = np.r_[1.0, 1.0, 1.0, np.full(3, grasp.length)]
+    dot_rounding = (6 * np.finfo(float).eps * np.linalg.norm(n * units)
+                    * np.linalg.norm(w / units) / (n @ (-w)))
     assert dot_rounding <= EPS, (ctx, "normal", n)
     lower_own = (n @ resultant) / h
     assert lower_own <= res.sigma * (1 + rounding(P, res, n, h)), \

@@ -103,7 +103,7 @@ def test_template_targets_equal_the_generic_compile(m, norm, magnitude):
             fast = space.target(method)
             lifted = fast.t_scale != 1
             generic = WS.generic_target(grasp.contacts, norm, magnitude, grasp.contact_matrices,
-                                        space.spin_weight, lifted)
+                                        space.spin_weight, lifted, grasp.length)
             check_same_target(fast, generic)
 
 

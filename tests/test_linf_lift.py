@@ -14,6 +14,12 @@ from graspforce.grasping.wrench_space import LIFT_MAX_CONTACTS, LIFTED_METHODS
 SOCP_TOL = 5e-8
 
 
+def lift(grasp, magnitude):
+    """W_Linf's lift of the grasp's contacts in the grasp's own units (min_force shoots it in
+    the units (force, torque / L), Grasp.length)."""
+    return gf.Grasp(grasp.contacts, length=1.0)._space("Linf", magnitude).target("zc-ie").set
+
+
 @pytest.mark.parametrize("magnitude", ["normal", "full"])
 def test_lift_meets_the_ray_where_the_sum_does(magnitude):
     # m t' on the lift along (0, r) is t on W_Linf along r: both shot to 1e-12, and the lift's
@@ -22,8 +28,7 @@ def test_lift_meets_the_ray_where_the_sum_does(magnitude):
     hits = 0
     for m in range(2, LIFT_MAX_CONTACTS + 1):
         grasp = random_grasp(rng, m)
-        space = grasp._space("Linf", magnitude)
-        C, W = space.target("zc-ie").set, grasp.wrench_set("Linf", magnitude)
+        C, W = lift(grasp, magnitude), grasp.wrench_set("Linf", magnitude)
         assert (C.dim, W.dim) == (m + 5, 6)
         for _ in range(5):
             r = -random_wrench(rng)
@@ -60,7 +65,7 @@ def test_ie_does_not_repeat_a_vertex_at_the_numerical_floor():
     for _ in range(4):
         random_wrench(rng)
     r = -random_wrench(rng)
-    C = grasp._space("Linf", "full").target("zc-ie").set
+    C = lift(grasp, "full")
     W = grasp.wrench_set("Linf", "full")
     truth = gf.ray_shoot(W, r, method="ie", eps=1e-12)
     status, sigma, _, _ = T.min_force_socp(plain(grasp), -r, "Linf", "full")
@@ -92,7 +97,7 @@ def test_lift_halves_ie_steps_on_the_ingot():
     from benchmarks.grasp_sets import ingot_grasp, random_wrenches
     grasp = ingot_grasp()
     W = grasp.wrench_set("Linf")
-    C = grasp._space("Linf", "normal").target("zc-ie").set
+    C = lift(grasp, "normal")
     steps_W, steps_C = [], []
     for w in random_wrenches(40, 2):
         res = grasp.min_force(w, norm="Linf")
@@ -116,7 +121,7 @@ def test_second_order_finish_on_the_lift(magnitude):
     rng = np.random.default_rng(5)
     for m in range(3, LIFT_MAX_CONTACTS + 1):
         grasp = random_grasp(rng, m, kinds=("soft", "point"))
-        C = grasp._space("Linf", magnitude).target("zc-ie").set
+        C = lift(grasp, magnitude)
         W = grasp.wrench_set("Linf", magnitude)
         for _ in range(4):
             r = sum(rng.uniform(0.2, 1.0) * W_i.support(rng.normal(size=6))[1]

@@ -11,9 +11,11 @@ namespace gf {
 namespace forces {
 
 // A Target's force reader (graspforce.wrench_space): how forces are read off witnesses, as one
-// float array read by offsets. Layout: [witness size, linf, full, m, leaves L, table (4, L) by
-// rows CONTACT, SLOT, SIZE, MAP, G (m, 6, 4), spin_weight (m,), mu (m,), mu_spin (m,), maps].
-constexpr Int READER_HEAD = 5;
+// float array read by offsets. Layout: [witness size, linf, full, m, leaves L, length, table
+// (4, L) by rows CONTACT, SLOT, SIZE, MAP, G (m, 6, 4), spin_weight (m,), mu (m,), mu_spin (m,),
+// maps]. The set and G are in the units (force, torque / length) (docs/grasp-api.md).
+constexpr Int READER_HEAD = 6;
+constexpr Int LENGTH = 5;
 
 // Entries [sigma, forces (m, 4), wrenches (m, 6), resultant (6,)] ahead of the ray-shooting
 // arrays in the packed result of `shoot_and_read_forces`.
@@ -103,10 +105,10 @@ inline double contact_forces(Mat W, Vec weights, double scale, Vec reader, Vec p
     return sigma;
 }
 
-// Whether the forces and resultant that `contact_forces` wrote to `packed` resist w_ext to
+// Whether the forces and resultant that `contact_forces` wrote to `packed` resist the load -r to
 // RESIDUAL relative, with each force in its friction cone (eq. 12) to CONE_ROUNDING: a few dot
-// products and a square root per contact.
-inline bool forces_hold(Vec w_ext, double ww, Vec reader, Vec packed) {
+// products and a square root per contact. r and the resultant are in the reader's units.
+inline bool forces_hold(Vec r, Vec reader, Vec packed) {
     using forces::READER_HEAD;
     const Int m = static_cast<Int>(reader[3]);
     const Int leaves = static_cast<Int>(reader[4]);
@@ -115,10 +117,10 @@ inline bool forces_hold(Vec w_ext, double ww, Vec reader, Vec packed) {
     const Int r0 = f0 + 10 * m;
     double res = 0.0;
     for (Int a = 0; a < 6; ++a) {
-        const double e = packed[r0 + a] + w_ext[a];
+        const double e = packed[r0 + a] - r[a];
         res += e * e;
     }
-    if (!(res <= RESIDUAL * RESIDUAL * ww)) return false;
+    if (!(res <= RESIDUAL * RESIDUAL * dot(r, r))) return false;
     for (Int i = 0; i < m; ++i) {
         const double mu = reader[mu0 + i];
         const double mu_s = reader[mu0 + m + i];
@@ -143,6 +145,10 @@ inline bool forces_hold(Vec w_ext, double ww, Vec reader, Vec packed) {
 // off Z_W(r). start: the wrench set's start table or an empty array; then a wrench space's
 // constant arguments: the shot set's program and its force reader.
 //
+// The set is shot in the reader's units (force, torque / length), along r = -(w_f, w_tau / length):
+// t, the forces and sigma do not depend on them, and the wrenches and resultant are returned in
+// the grasp's own units.
+//
 // Returns the head of the shot, whose arrays go to `packed` (extra_size(m) + capacity(6, ws)
 // entries) after the extra entries [sigma, forces (m, 4), wrenches (m, 6), resultant (6,)];
 // zero forces and sigma = inf when the ray misses W or the shot found no point of W on it.
@@ -157,11 +163,14 @@ Head shoot_and_read_forces(Vec w_ext, Int method, double eps, Int max_iter, Vec 
     // x.x is NaN or inf iff an entry is (or the squares overflow)
     if (w_ext.n != 6 || !std::isfinite(ww)) return {BAD_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0};
     if (ww == 0.0) return {ZERO_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0};
-    // r = -w_ext, after the lift's m - 1 zeros for Linf (graspforce.wrench_space)
+    // r = -w_ext in the reader's units, after the lift's m - 1 zeros for Linf
+    // (graspforce.wrench_space)
     const Int n = ints[blocks(ints[0]).DIM];   // the set's dimension: its root node's
+    const double length = reader[forces::LENGTH];
     Array r_(n);
     const Vec r = r_.vec();
-    for (Int a = 0; a < 6; ++a) r[n - 6 + a] = -w_ext[a];
+    for (Int a = 0; a < 3; ++a) r[n - 6 + a] = -w_ext[a];
+    for (Int a = 3; a < 6; ++a) r[n - 6 + a] = -w_ext[a] / length;
     Shot out = shoot_with_table(ints, floats, r, static_cast<Int>(reader[0]), method, eps,
                                 max_iter, start);
     const double t = out.t;
@@ -179,10 +188,14 @@ Head shoot_and_read_forces(Vec w_ext, Int method, double eps, Int max_iter, Vec 
     if (out.status == HIT) {
         // t on W_Linf is m t' on its lift in R^(m + 5); 1 on W itself (n = 6)
         const double lower = 1.0 / (static_cast<double>(n - 5) * out.t_up);
-        if (!(forces_hold(w_ext, ww, reader, packed) && lower <= sigma * (1.0 + eps) &&
+        if (!(forces_hold(r.segment(n - 6, 6), reader, packed) && lower <= sigma * (1.0 + eps) &&
               sigma <= lower * (1.0 + eps + 1e-15)))
             head.status = LIMIT;
     }
+    // the torques back in the grasp's units
+    const Int w0 = 1 + 4 * m;
+    for (Int i = 0; i <= m; ++i)
+        for (Int a = 3; a < 6; ++a) packed[w0 + 6 * i + a] *= length;
     return head;
 }
 

@@ -213,7 +213,7 @@ NB_MODULE(_core, m) {
     nb::module_ warm = m.def_submodule("warm", "The warm start's probe rounds.");
     nb::module_ batch = m.def_submodule("batch", "A batch row's statuses.");
 #define GF_EXPORT_FROM(space, name) space.attr(#name) = gf::space::name
-    GF_EXPORT_FROM(forces, READER_HEAD);
+    GF_EXPORT_FROM(forces, READER_HEAD); GF_EXPORT_FROM(forces, LENGTH);
     GF_EXPORT_FROM(warm, WIDENINGS);
     GF_EXPORT_FROM(batch, OPTIMAL); GF_EXPORT_FROM(batch, INFEASIBLE);
     GF_EXPORT_FROM(batch, MAX_ITER); GF_EXPORT_FROM(batch, BAD_WRENCH);

@@ -5,7 +5,7 @@ import numpy as np
 
 from .._core import BAD_WRENCH, HIT, MISS, ZERO_WRENCH, shoot_and_read_forces
 from ..geometry._start_table import UNSEEN, start_table
-from .._validate import check_choice, finite_array, finite_vector, is_vector
+from .._validate import check_choice, finite_array, finite_scalar, finite_vector, is_vector
 from .contact import Contact
 from .quality import facet_expansion, grasp_quality
 from ..shooting.ray_shoot import METHODS, check_tolerances
@@ -19,9 +19,16 @@ class Grasp:
     matrix: the grasp map [G_1 ... G_m] of eq. (11), (6, 4m); a wrench is (force, torque about
     the frame's origin); contact_matrices: the G_i stacked, (m, 6, 4). Wrench sets are built on
     first use and cached per (norm, magnitude).
+
+    length: the grasp's characteristic length L (> 0, in the unit of the positions): min_force
+    shoots the wrench set in the units (force, torque / L), where its tolerances hold whatever
+    the unit of length (docs/grasp-api.md, "Units"). By default the power of two nearest to 2
+    times the RMS over the contacts of sqrt(|p_i|^2 + mu_si^2), their lever arms about the
+    frame's origin (1 if all are 0): a power of two scales without rounding, and the factor 2 is
+    measured (docs/design.md, "The unit of length").
     """
 
-    def __init__(self, contacts):
+    def __init__(self, contacts, length=None):
         contacts = tuple(contacts)
         if not contacts:
             raise ValueError("contacts: a grasp needs at least one contact")
@@ -29,6 +36,9 @@ class Grasp:
             if not isinstance(c, Contact):
                 raise TypeError(f"contacts: expected gf.Contact, got {type(c).__name__}")
         self.contacts = contacts
+        if length is not None and not (type(length) is float and 0.0 < length < math.inf):
+            length = finite_scalar(length, "length", minimum=0.0, exclusive=True)
+        self._length = length
         # what the wrench sets are made of, G_i first (graspforce.wrench_space.grasp_values):
         # one array for all, from the entries each contact computed when it was made
         self._values = grasp_values(contacts)
@@ -43,6 +53,20 @@ class Grasp:
         # the wrench spaces are caches built on first use, and hold compiled entry points that do
         # not pickle
         return {**self.__dict__, "_spaces": {}, "_calls": {}}
+
+    @property
+    def length(self):
+        """The characteristic length L (class docstring), derived on first read if not given."""
+        if self._length is None:
+            arms = 0.0
+            for c in self.contacts:
+                x, y, z = c.position.tolist()       # floats: ~3x faster than numpy's dot here
+                arms += x * x + y * y + z * z + c.mu_spin * c.mu_spin
+            self._length = 1.0
+            if arms > 0.0:
+                fraction, exponent = math.frexp(2.0 * math.sqrt(arms / len(self.contacts)))
+                self._length = math.ldexp(1.0, exponent - (fraction < math.sqrt(0.5)))
+        return self._length
 
     @property
     def matrix(self):
@@ -63,7 +87,8 @@ class Grasp:
         space = self._spaces.get(key)
         if space is None:
             space = self._spaces[key] = WrenchSpace(self.contacts, norm, magnitude,
-                                                    self.contact_matrices, self._values)
+                                                    self.contact_matrices, self._values,
+                                                    self.length)
             space.shoot = shoot_and_read_forces
         return space
 
@@ -102,7 +127,7 @@ class Grasp:
         if status == ZERO_WRENCH:
             return self._without_forces(space, "optimal", 0.0, method, None)
         sigma = packed.item(0)
-        ray = (A, w_ext, head, packed, extra)
+        ray = (A, w_ext, head, packed, extra, space)
         if status == MISS:
             # a separating hyperplane (or a ray that leaves W at the origin): no finite forces
             return self._without_forces(space, "infeasible", math.inf, method, ray, t_scale)

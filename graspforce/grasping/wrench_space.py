@@ -37,7 +37,7 @@ whose weights sum to 1/m.
 import numpy as np
 
 from .._core import capacity, extra_size
-from ..records._forces import force_reader
+from ..records._forces import LENGTH, READER_HEAD, force_reader
 from ..geometry._kernel import children, param_start
 from ..geometry.sets import (ConeCap, Ellipsoid, Hull, MinkowskiSum, Polytope, affine, hull,
                              minkowski_sum)
@@ -46,9 +46,12 @@ NORMS = ("L1", "Linf")
 MAGNITUDES = ("normal", "full")
 
 
-def contact_set(contact, magnitude):
+def contact_set(contact, magnitude, G=None):
     """(W_i, base, local_map): the wrench set of one contact and how its leaf's witness maps to a
-    unit contact force, f = base + local_map @ local."""
+    unit contact force, f = base + local_map @ local. G: the contact's G_i in the units the set
+    is made in (`torques_over`); its own by default."""
+    if G is None:
+        G = contact.matrix
     if magnitude == "normal":
         # the ellipse's axes: only the friction components this contact has
         axes = [(1, contact.mu), (2, contact.mu)] if contact.mu > 0.0 else []
@@ -58,7 +61,7 @@ def contact_set(contact, magnitude):
         for col, (row, coefficient) in enumerate(axes):
             local_map[row, col] = coefficient
         base = np.array([1.0, 0.0, 0.0, 0.0])
-        W_i = Ellipsoid(contact.matrix[:, 0], contact.matrix @ local_map)
+        W_i = Ellipsoid(G[:, 0], G @ local_map)
     else:
         # full magnitude: g = D f lives in the cone of the contact's own dimension
         size = 4 if contact.mu_spin > 0.0 else 3
@@ -67,7 +70,7 @@ def contact_set(contact, magnitude):
         if size == 4:
             local_map[3, 3] = contact.mu_spin / contact.mu       # D^{-1}
         base = np.zeros(4)
-        W_i = affine(contact.matrix @ local_map, ConeCap(contact.mu, size))
+        W_i = affine(G @ local_map, ConeCap(contact.mu, size))
     return W_i, base, local_map
 
 
@@ -104,7 +107,7 @@ class Target:
     contacts' sets (the others are origins: no force)."""
 
     def __init__(self, shot_set, maps, t_scale, contact_matrices, linf, full, spin_weight,
-                 friction):
+                 friction, length):
         self.set = shot_set
         self.t_scale = t_scale
         table, forces_map = self._table(maps)
@@ -117,7 +120,7 @@ class Target:
         ints, floats = self.set.program
         self.compiled_args = (ints, floats, force_reader(self.set.witness_size, linf, full,
                                                          contact_matrices, table, forces_map,
-                                                         spin_weight, friction))
+                                                         spin_weight, friction, length))
 
     def _table(self, maps):
         """(table (4, leaves), maps): per leaf its contact (-1 for an origin), the start of its
@@ -137,36 +140,60 @@ class Target:
         return table, np.concatenate(blocks)
 
 
-def contact_parts(contacts, magnitude, lifted):
+def contact_parts(contacts, magnitude, lifted, matrices):
     """(parts, maps): the root's children of a wrench space's shot set (W_i, or the lift's
-    summands) and the force maps of their leaves (Target)."""
+    summands) made of the G_i `matrices` (m, 6, 4), and the force maps of their leaves
+    (Target)."""
     lift = lift_rows(len(contacts)) if lifted else None
     maps = {}
     parts = []
     for i, contact in enumerate(contacts):
-        W_i, base, local_map = contact_set(contact, magnitude)
+        W_i, base, local_map = contact_set(contact, magnitude, matrices[i])
         for leaf in W_i.leaves():
             maps[id(leaf)] = (i, base, local_map)
         parts.append(lift_summand(W_i, lift[i]) if lifted else W_i)
     return parts, maps
 
 
-def _root_children(contacts, magnitude, lifted, linf):
-    parts, maps = contact_parts(contacts, magnitude, lifted)
+def _root_children(contacts, magnitude, lifted, linf, matrices):
+    parts, maps = contact_parts(contacts, magnitude, lifted, matrices)
     if linf and not lifted:
         parts = [hull(Polytope(np.zeros((1, 6))), W_i) for W_i in parts]
     return parts, maps
 
 
-def generic_target(contacts, norm, magnitude, contact_matrices, spin_weight, lifted):
+_FACTORS = {}
+
+
+def torques_over(values, m, length):
+    """values whose first 24 m entries are the G_i (m, 6, 4) (a grasp's `grasp_values`, or the G_i
+    themselves) in the units (force, torque / length): a copy with the G_i's torque rows times
+    1 / length (the same array for length 1). One product with a cached array of factors: a
+    strided division costs ~5 us a grasp, the product 0.7 (the default lengths are powers of
+    two, few)."""
+    if length == 1.0:
+        return values
+    key = (values.size, m, length)
+    factors = _FACTORS.get(key)
+    if factors is None:
+        if len(_FACTORS) >= MAX_TEMPLATES:
+            _FACTORS.pop(next(iter(_FACTORS)), None)
+        factors = _FACTORS[key] = np.ones(values.size)
+        factors[:24 * m].reshape(m, 6, 4)[:, 3:] = 1.0 / length
+    return values * factors.reshape(values.shape)
+
+
+def generic_target(contacts, norm, magnitude, contact_matrices, spin_weight, lifted, length=1.0):
     """The Target of a wrench space built as a tree and compiled by the generic compiler
-    (graspforce.sets): the reference that the templates below reproduce."""
+    (graspforce.sets): the reference that the templates below reproduce. The set is made in the
+    units (force, torque / length) (`Grasp.length`)."""
     linf = norm == "Linf"
-    parts, maps = _root_children(contacts, magnitude, lifted, linf)
+    matrices = torques_over(contact_matrices, len(contacts), length)
+    parts, maps = _root_children(contacts, magnitude, lifted, linf, matrices)
     shot_set = minkowski_sum(*parts) if linf and not lifted else hull(*parts)
     friction = np.array([(c.mu, c.mu_spin) for c in contacts], dtype=float)
-    return Target(shot_set, maps, len(contacts) if lifted else 1, contact_matrices, linf,
-                  magnitude == "full", spin_weight, friction)
+    return Target(shot_set, maps, len(contacts) if lifted else 1, matrices, linf,
+                  magnitude == "full", spin_weight, friction, length)
 
 
 class _ContactsRoot:
@@ -178,8 +205,7 @@ class _ContactsRoot:
     def sets(self):
         sets = self.__dict__.get("_sets")
         if sets is None:
-            contacts, magnitude, lifted, linf = self._made_of
-            sets = self._sets = tuple(_root_children(contacts, magnitude, lifted, linf)[0])
+            sets = self._sets = tuple(_root_children(*self._made_of)[0])
         return sets
 
     def __repr__(self):
@@ -243,8 +269,8 @@ class _Template:
         # whatever the signs of its zero terms)
         dst, src, scale, add = [], [], [], []
         leaves = int(reader[4])
-        table = reader[5:5 + 4 * leaves].reshape(4, -1).astype(np.int64)
-        g_start = 5 + 4 * leaves
+        table = reader[READER_HEAD:READER_HEAD + 4 * leaves].reshape(4, -1).astype(np.int64)
+        g_start = READER_HEAD + 4 * leaves
         maps_start = g_start + 27 * m
         # the reader's G_i, spin weights and friction coefficients (mu, then mu_s), copied
         read_dst = list(range(g_start, maps_start))
@@ -289,18 +315,20 @@ class _Template:
         self.add = np.array(add)
         self.read_dst, self.read_src = as_index(read_dst), as_index(read_src)
 
-    def target(self, contacts, values):
-        """The Target of these contacts (of this template's structure), values their
-        `grasp_values`."""
+    def target(self, contacts, values, length):
+        """The Target of these contacts (of this template's structure) in the units (force,
+        torque / length), values their `grasp_values` in those units (`torques_over`)."""
         floats = self.floats.copy()
         floats[self.dst] = values[self.src] * values[self.scale] + self.add
         reader = self.reader.copy()
         reader[self.read_dst] = values[self.read_src]
+        reader[LENGTH] = length
         magnitude, lifted, linf = self.made_of
         cls = _ContactsSum if linf and not lifted else _ContactsHull
         root = cls.__new__(cls)
         root.dim = self.dim
-        root._made_of = (contacts, magnitude, lifted, linf)
+        matrices = values[:24 * len(contacts)].reshape(-1, 6, 4)
+        root._made_of = (contacts, magnitude, lifted, linf, matrices)
         ints = self.ints.copy()
         root._program = (ints, floats)
         root._witness_slots = self.slots
@@ -328,11 +356,13 @@ MAX_TEMPLATES = 256     # structures kept (a robot's contact sets, a service's g
 class WrenchSpace:
     """W (eq. 14) for a list of contacts; contact_matrices: the contacts' G_i, (m, 6, 4).
     `set` is W in R^6; `target(method)` the compiled set min_force shoots at with that method
-    (W, or W_Linf's lift for LIFTED_METHODS), built on first use."""
+    (W, or W_Linf's lift for LIFTED_METHODS) in the units (force, torque / length)
+    (`Grasp.length`), built on first use."""
 
-    def __init__(self, contacts, norm, magnitude, contact_matrices, values=None):
+    def __init__(self, contacts, norm, magnitude, contact_matrices, values=None, length=1.0):
         self.norm = norm
         self.magnitude = magnitude
+        self.length = length
         self._contacts = contacts
         self._matrices = contact_matrices
         self._values = values
@@ -349,7 +379,7 @@ class WrenchSpace:
     @property
     def set(self):
         """W in R^6 (built on first read: min_force on W_Linf's lift does not need it)."""
-        return self._target(False).set
+        return self._target(False, 1.0).set
 
     def target(self, method):
         """The Target that min_force shoots at with `method` (a name of gf.METHODS)."""
@@ -357,13 +387,14 @@ class WrenchSpace:
         if target is None:
             target = self._by_method[method] = self._target(
                 self.norm == "Linf" and 1 < len(self._contacts) <= LIFT_MAX_CONTACTS
-                and method in LIFTED_METHODS)
+                and method in LIFTED_METHODS, self.length)
         return target
 
-    def _target(self, lifted):
-        """The Target on W, or on W_Linf's lift; built once, from its structure's template
-        (made by the generic compiler at the structure's first grasp)."""
-        target = self._targets.get(lifted)
+    def _target(self, lifted, length):
+        """The Target on W, or on W_Linf's lift, in the units (force, torque / length); built
+        once, from its structure's template (made by the generic compiler at the structure's
+        first grasp)."""
+        target = self._targets.get((lifted, length))
         if target is None:
             contacts = self._contacts
             kinds = tuple((c.mu > 0.0) + (c.mu_spin > 0.0) for c in contacts)
@@ -373,12 +404,13 @@ class WrenchSpace:
             if template is not None:
                 if self._values is None:
                     self._values = grasp_values(contacts)
-                target = template.target(contacts, self._values)
+                target = template.target(
+                    contacts, torques_over(self._values, len(contacts), length), length)
             else:
                 target = generic_target(contacts, self.norm, self.magnitude, self._matrices,
-                                        self.spin_weight, lifted)
+                                        self.spin_weight, lifted, length)
                 if len(_TEMPLATES) >= MAX_TEMPLATES:
                     _TEMPLATES.pop(next(iter(_TEMPLATES)), None)
                 _TEMPLATES[key] = _Template(target, kinds, self.magnitude, lifted, linf)
-            self._targets[lifted] = target
+            self._targets[(lifted, length)] = target
         return target

@@ -2,7 +2,7 @@
 (the compiled reading is core/forces.hpp's `contact_forces`, run on every min_force call)."""
 import numpy as np
 
-from .._core.forces import READER_HEAD
+from .._core.forces import LENGTH, READER_HEAD
 
 # rows of a wrench space's leaf table (graspforce.wrench_space.Target._table)
 CONTACT, SLOT, SIZE, MAP = 0, 1, 2, 3
@@ -11,14 +11,15 @@ CONTACT, SLOT, SIZE, MAP = 0, 1, 2, 3
 # float array read by offsets, since each array a min_force call hands to the compiled code costs
 # ~50 ns to cross from Python (a zero-wrench call 641 -> 398 ns with the six gathered here) and
 # each view of one costs reference counting. Layout: [witness size, linf, full, m, leaves L,
-# table (4, L) by rows CONTACT, SLOT, SIZE, MAP, G (m, 6, 4), spin_weight (m,), mu (m,),
+# length, table (4, L) by rows CONTACT, SLOT, SIZE, MAP, G (m, 6, 4), spin_weight (m,), mu (m,),
 # mu_spin (m,), maps].
-def force_reader(witness_size, linf, full, G, table, maps, spin_weight, friction):
+def force_reader(witness_size, linf, full, G, table, maps, spin_weight, friction, length):
     """The reader array of a shot set (layout above): its witness size, the objective (linf,
-    full), the contacts' G_i (m, 6, 4), the leaf table and maps of `contact_forces`, the
-    weights of f_4^2 (full magnitude) and the contacts' (mu, mu_spin) (m, 2), whose friction
-    cones the forces' certificate checks (`forces_hold`)."""
-    return np.concatenate(([witness_size, linf, full, G.shape[0], table.shape[1]],
+    full), the grasp's length L and the contacts' G_i (m, 6, 4) in the units (force, torque / L)
+    of the set, the leaf table and maps of `contact_forces`, the weights of f_4^2 (full
+    magnitude) and the contacts' (mu, mu_spin) (m, 2), whose friction cones the forces'
+    certificate checks (`forces_hold`)."""
+    return np.concatenate(([witness_size, linf, full, G.shape[0], table.shape[1], length],
                            table.ravel(), G.ravel(), spin_weight, friction[:, 0], friction[:, 1],
                            maps)).astype(float)
 

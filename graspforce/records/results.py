@@ -223,7 +223,8 @@ class MinForce:
                                                                     sigma_lower)
         self.norm, self.magnitude, self.method = norm, magnitude, method
         self.iterations, self.support_calls = iterations, support_calls
-        # (W, w_ext, head, packed, extra) (graspforce._packed); None for a zero wrench or a
+        # (W, w_ext, head, packed, extra, wrench space) (graspforce._packed; the space's length,
+        # Grasp.length, is the unit the shot at W was made in); None for a zero wrench or a
         # baseline's answer
         self.ray = ray
         self._forces = (forces, world_forces, wrenches, resultant)
@@ -269,15 +270,24 @@ class MinForce:
         graspforce.wrench_space) and the ray (0, -w_ext), where sigma = 1 / (m t). The wrench
         part u of the lift's normal (mu, u) is a normal of W_Linf: h_W(u) = sum_i h_Ai(u) <=
         m h_C(mu, u) since the lift's rows sum to zero, so u alone certifies sigma_lower (and a
-        miss)."""
+        miss). The compiled shot is in the units (force, torque / L) (Grasp.length); here it is
+        mapped back, its torque coordinates times L and its normal's divided by L (t, t_upper
+        and the support value do not change)."""
         try:
             return self._shot
         except AttributeError:
             self._shot = None
             if self.ray is not None:
-                W, w_ext, head, packed, extra = self.ray
-                r = np.zeros(W.dim)
-                r[W.dim - 6:] = -np.asarray(w_ext, dtype=float)
+                W, w_ext, head, packed, extra, space = self.ray
+                n, length = W.dim, space.length
+                r = np.zeros(n)
+                r[n - 6:] = -np.asarray(w_ext, dtype=float)
+                if length != 1.0:
+                    W = space._target(n > 6, 1.0).set
+                    packed = packed.copy()
+                    normal, _, vertices, _ = unpack(packed, extra, n, W.witness_size, head[7])
+                    normal[n - 3:] /= length
+                    vertices[:, n - 3:] *= length
                 self._shot = RayShot.from_packed(W, r, self.method, head, packed, extra)
             return self._shot
 
