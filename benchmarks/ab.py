@@ -59,7 +59,7 @@ def _built_core(checkout):
     built = [path for suffix in importlib.machinery.EXTENSION_SUFFIXES
              for path in glob.glob(f"{checkout}/build/*/_core{suffix}")]
     if not built:
-        if os.path.exists(f"{checkout}/core/bindings.cpp"):
+        if os.path.exists(f"{checkout}/CMakeLists.txt"):
             raise SystemExit(f"{checkout}: no compiled core; build it first, e.g. "
                              f"pip wheel --no-deps -w /tmp/wheels {checkout}")
         return None

@@ -43,7 +43,7 @@ def rate(grasp, wrenches, threads, repeats=3):
 
 
 def clarabel_rate(grasp, wrenches):
-    from graspforce.baselines import clarabel_socp
+    from graspforce.grasping.baselines import clarabel_socp
     prepared = clarabel_socp.Prepared(grasp)
     prepared.solve(wrenches[0])
     t = time.perf_counter()
@@ -134,8 +134,9 @@ def main(argv=None):
           f"{cores} cores; load average at the start of the run {load[0]:.2f} (the machine is "
           "shared: other processes' load lowers every figure). Wrenches: Table 5 protocol "
           f"(gf.batch.table5), {n_rate:,} per throughput figure, best of 3 calls; L1, "
-          "magnitude normal, ZC-IE, eps 1e-9. Clarabel: graspforce.baselines.clarabel_socp."
-          "Prepared, the wrench updated per call, in a Python loop over 2,000 wrenches.", "",
+          "magnitude normal, ZC-IE, eps 1e-9. Clarabel: "
+          "graspforce.grasping.baselines.clarabel_socp.Prepared, the wrench updated per call, in "
+          "a Python loop over 2,000 wrenches.", "",
           "| grasp | all cores /s | 1 thread /s | 2 threads /s | 2 / 1 | Clarabel /s | per core "
           "vs Clarabel |", "|---|---|---|---|---|---|---|"]
     for name, a, one, two, clar in rows:

@@ -124,7 +124,7 @@ def limit_loads(grasp, base, scale, rng, k, blind=None):
     first half, s in [0.95, 0.999] for the rest; alpha* by bisection on Clarabel's tight answers.
     `blind`: an axis through the origin about which the contacts make no torque (a pinch's);
     d's torque about it is removed."""
-    from graspforce.baselines import clarabel_socp
+    from graspforce.grasping.baselines import clarabel_socp
     truth = clarabel_socp.Prepared(grasp, "L1", "normal", tight=True)
 
     def holds(w):
@@ -171,7 +171,7 @@ def timed(fn, loads):
 
 
 def run_family(name, grasps, loads, method, eps, log):
-    from graspforce.baselines import clarabel_socp
+    from graspforce.grasping.baselines import clarabel_socp
     rng = np.random.default_rng(sum(map(ord, name)))
     row = {"family": name}
     cases = [FAMILIES[name](rng, loads) for _ in range(grasps)]

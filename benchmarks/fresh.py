@@ -35,7 +35,7 @@ import numpy as np
 
 import graspforce as gf
 from graspforce import _core
-from graspforce._start_table import NO_TABLE, start_table
+from graspforce.geometry._start_table import NO_TABLE, start_table
 
 OUT = Path(__file__).resolve().parent / "results" / "fresh.md"
 RADIUS, MU, MU_S = 0.05, 0.6, 0.01
@@ -176,8 +176,8 @@ def main():
     if args.before:
         versions = {"before": load_before(args.before), "this": gf}
     rng = np.random.default_rng(args.seed)
-    # warm-up: a structure's first grasp makes its template (graspforce.wrench_space), a leaf
-    # pair's first Delta its own (graspforce.growth); both once per process
+    # warm-up: a structure's first grasp makes its template (graspforce.grasping.wrench_space), a
+    # leaf pair's first Delta its own (graspforce.growth.growth); both once per process
     run_fresh(20, rng, versions, "L1")
     run_fresh(20, rng, versions, "Linf")
     run_growth(20, rng, versions)

@@ -1,4 +1,5 @@
-"""min sigma_Linf (eq. 13) shot at W_Linf's lift against the sum itself (graspforce.wrench_space).
+"""min sigma_Linf (eq. 13) shot at W_Linf's lift against the sum itself
+(graspforce.grasping.wrench_space).
 
 For norm "Linf", IE and ZC-IE shoot the ray (0, r) at the lift C = CH(U_i {e_i - c} x CH({0} U W_i))
 in R^(m + 5) on grasps of up to LIFT_MAX_CONTACTS contacts, instead of r at the sum
@@ -7,7 +8,7 @@ call and alternating (the machine's speed drifts too much for two runs one after
 reports medians of the per-call times, the per-call ratio and the iterations: on the ingot grasp
 of table 5 (1000 wrenches), and on m soft fingers at random points of a sphere (the grasps of
 benchmarks/many_contacts.py, 200 wrenches), where the lift's larger IE steps stop paying
-(graspforce.wrench_space.LIFT_MAX_CONTACTS; the row for 8 contacts forces the lift).
+(graspforce.grasping.wrench_space.LIFT_MAX_CONTACTS; the row for 8 contacts forces the lift).
 
     python -m benchmarks.linf_lift [--out benchmarks/results/linf_lift.md]
 """
@@ -26,7 +27,7 @@ def shooting(grasp, magnitude, method, lifted):
     """The grasp, its min_force with `method` shooting at W_Linf's lift or at W_Linf itself
     whatever the number of contacts."""
     space = grasp._space("Linf", magnitude)
-    space._by_method[(method, False)] = space._target(lifted)
+    space._by_method[(method, False)] = space._target(lifted, space.length)
     return grasp
 
 

@@ -9,7 +9,7 @@ Run from the repository root:
     python -m benchmarks.min_force --magnitude full   # the objectives of eq. (15)
 
 Ours: `grasp.min_force(w, norm, magnitude, method, eps)` for the five methods (every call from
-Python, forces read off the final simplex included). Baselines (graspforce.baselines):
+Python, forces read off the final simplex included). Baselines (graspforce.grasping.baselines):
 - Clarabel SOCP on the exact cones, at its fastest: built once, `solver.update(b=...)` per wrench;
 - the same SOCP built and solved per call (how it is usually called);
 - a linearized friction pyramid (8 faces) solved through qpsolvers with OSQP and with Clarabel, as
@@ -74,7 +74,7 @@ def summarize(name, times, results, wrenches, grasp, reference, eps=None):
 
 
 def run_objective(grasp, wrenches, norm, magnitude, eps, methods, log):
-    from graspforce.baselines import clarabel_socp, pyramid
+    from graspforce.grasping.baselines import clarabel_socp, pyramid
 
     prepared = clarabel_socp.Prepared(grasp, norm, magnitude)
     reference_solver = clarabel_socp.Prepared(grasp, norm, magnitude, tight=True)

@@ -11,7 +11,7 @@ timed on its own with time.perf_counter_ns (from Python, garbage collector off) 
 warm-up pass over the same wrenches, in REPEATS = 3 passes; a call's time is its least. Prints a markdown table and writes it to
 benchmarks/results/ray_shoot.md.
 
-Clarabel baseline: graspforce.baselines.clarabel_socp on the same four contacts (L1, normal
+Clarabel baseline: graspforce.grasping.baselines.clarabel_socp on the same four contacts (L1, normal
 magnitude). Its minimum sigma_L1 = sum_i f_i1 for w_ext = -r is 1 / t: the farthest point t r of
 W_L1 on the ray R(r) scales to forces of total normal force 1 (eq. 14), so t = 1 / sigma
 (infeasible <=> miss). "clarabel (update)" is `clarabel_socp.Prepared`: the solver is built once
@@ -37,10 +37,10 @@ import numpy as np
 
 from benchmarks.grasp_sets import (ingot_ellipsoids, ingot_grasp, ingot_grasp_sets, random_wrenches,
                                    support_L1)
-from graspforce._start_table import NO_TABLE
+from graspforce.geometry._start_table import NO_TABLE
 
-# COLD is ZC-IE on a set's first shot, without the start table (graspforce._start_table) that
-# every later shot at the same set gets (the warm-up pass builds it for the other rows)
+# COLD is ZC-IE on a set's first shot, without the start table (graspforce.geometry._start_table)
+# that every later shot at the same set gets (the warm-up pass builds it for the other rows)
 COLD = "zc-ie (no start table)"
 METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie", COLD, "zc-ie-newton")
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -54,10 +54,10 @@ if not os.path.exists(PAPER_TABLES):
 # Clarabel baseline
 
 class ClarabelRayShooter:
-    """t = 1 / min sigma_L1 for w_ext = -r, from graspforce.baselines.clarabel_socp."""
+    """t = 1 / min sigma_L1 for w_ext = -r, from graspforce.grasping.baselines.clarabel_socp."""
 
     def __init__(self, grasp):
-        from graspforce.baselines import clarabel_socp
+        from graspforce.grasping.baselines import clarabel_socp
         self.grasp, self._min_force = grasp, clarabel_socp.min_force
         self.prepared = clarabel_socp.Prepared(grasp)
 

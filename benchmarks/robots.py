@@ -55,7 +55,7 @@ def load_times(name, repeats=5):
 
 def run(name, k, log):
     import graspforce as gf
-    from graspforce.baselines import clarabel_socp, pyramid
+    from graspforce.grasping.baselines import clarabel_socp, pyramid
 
     scenario = gf.robots.load_scenario(name)
     grasp, W = scenario.grasp, wrenches(scenario, k)

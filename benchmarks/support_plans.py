@@ -1,8 +1,8 @@
 """One support call of the compiled kernel, by the program's plan against the general passes.
 
-A program whose plan is not GENERAL (graspforce._kernel: the soft fingers' wrench sets, bare or
-lifted; sums of posed 3-D bodies) is evaluated by a loop of its own; the same program with its
-plan entry set to GENERAL runs the four passes every other program runs. Both are timed here in
+A program whose plan is not GENERAL (graspforce.geometry._kernel: the soft fingers' wrench sets,
+bare or lifted; sums of posed 3-D bodies) is evaluated by a loop of its own; the same program with
+its plan entry set to GENERAL runs the four passes every other program runs. Both are timed here in
 one process, round by round (least of ROUNDS), inside a compiled loop over random unit directions
 (graspforce._core.timing.support_loop), after checking that they return the same value, point
 and witnesses. Sets: the ingot grasp's W_L1 (R^6) and W_Linf's lift (R^9, what min_force shoots
@@ -18,9 +18,9 @@ import numpy as np
 import graspforce as gf
 from benchmarks.grasp_sets import ingot_grasp
 from benchmarks.growth_sets import protocol_pairs
-from graspforce import _kernel as K
+from graspforce.geometry import _kernel as K
 from graspforce._core import timing
-from graspforce.wrench_space import lift_rows, lift_summand
+from graspforce.grasping.wrench_space import lift_rows, lift_summand
 
 ROUNDS = 7
 DIRECTIONS = 1000

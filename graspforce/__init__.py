@@ -1,13 +1,13 @@
 """graspforce: exact grasp and contact analysis by ray shooting (Zheng & Yamane)."""
-from .contact import Contact
-from .distance import closest_point, cone_distance
-from .grasp import Grasp
-from .growth import GrowthDistance, growth_distance
-from .ray_shoot import METHODS, ray_shoot
-from .results import (ClosestPoint, ConeDistance, GraspQuality, GrowthDistanceResult, MinForce,
-                      RayShot)
-from .sets import (Ball, Box, Capsule, ConeCap, ConvexSet, Ellipsoid, Polytope, TruncatedCone,
-                   affine, hull, minkowski_sum, pose)
+from .geometry.sets import (Ball, Box, Capsule, ConeCap, ConvexSet, Ellipsoid, Polytope,
+                            TruncatedCone, affine, hull, minkowski_sum, pose)
+from .grasping.contact import Contact
+from .grasping.grasp import Grasp
+from .growth.growth import GrowthDistance, growth_distance
+from .records.results import (ClosestPoint, ConeDistance, GraspQuality, GrowthDistanceResult,
+                              MinForce, RayShot)
+from .shooting.distance import closest_point, cone_distance
+from .shooting.ray_shoot import METHODS, ray_shoot
 
 
 

@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from .results import GraspQuality, GrowthDistanceResult, MinForce, MinForceBatch, RayShot
+from .records.results import GraspQuality, GrowthDistanceResult, MinForce, MinForceBatch, RayShot
 from .serialize import grasp_to_dict, pose_to_dict, set_to_dict
 
 _RETRY_STATUS = (502, 503, 504)
@@ -65,7 +65,8 @@ class Client:
 
     def compare(self, grasp, w_ext, solvers=("clarabel", "osqp"), norm="L1",
                 magnitude="normal", method="zc-ie", eps=1e-9):
-        """(gf.MinForce, rows): ours and the baselines' answers (graspforce.baselines.compare)."""
+        """(gf.MinForce, rows): ours and the baselines' answers
+        (graspforce.grasping.baselines.compare)."""
         d = self._request("POST", "/v1/force-optimization", {
             **grasp_to_dict(grasp), "w_ext": _list(w_ext), "norm": norm,
             "magnitude": magnitude, "method": method, "eps": eps, "compare": list(solvers)})

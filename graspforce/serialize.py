@@ -4,7 +4,7 @@ The service (server/) and its client (graspforce.client) send problems as these 
 lists and numbers, so a problem rebuilt from its JSON form is the same problem, to the bit:
 floats survive JSON unchanged (Python writes the shortest repr that reads back exactly).
 
-A set is a tagged dict, one tag per constructor of graspforce.sets:
+A set is a tagged dict, one tag per constructor of graspforce.geometry.sets:
     {"type": "polytope", "vertices": [[...], ...]}
     {"type": "ellipsoid", "center": [...], "shape": [[...], ...]}
     {"type": "ball", "center": [...], "radius": r}
@@ -20,8 +20,8 @@ Capsule a sum of a segment and a ball), which set_from_dict rebuilds into the sa
 """
 import numpy as np
 
-from . import sets as S
-from .contact import Contact
+from .geometry import sets as S
+from .grasping.contact import Contact
 
 SET_TYPES = ("polytope", "ellipsoid", "ball", "box", "truncated_cone", "capsule", "cone_cap",
              "hull", "minkowski_sum", "affine")
@@ -127,7 +127,7 @@ def grasp_to_dict(grasp):
 
 def grasp_from_dict(d):
     """The gf.Grasp of {"contacts": [...]}."""
-    from .grasp import Grasp
+    from .grasping.grasp import Grasp
     contacts = d.get("contacts") if isinstance(d, dict) else None
     if not isinstance(contacts, list) or not contacts:
         raise ValueError("contacts: required, a non-empty list of contacts")
@@ -136,7 +136,7 @@ def grasp_from_dict(d):
 
 def pose_to_dict(pose, name="pose"):
     """{"rotation": 3x3, "translation": 3} of (R, p), a 4x4 matrix or a pinocchio.SE3."""
-    from .growth import parse_pose
+    from .growth.growth import parse_pose
     R, p = parse_pose(pose, name)
     return {"rotation": R.tolist(), "translation": p.tolist()}
 

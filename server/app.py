@@ -113,7 +113,7 @@ def solve_force_optimization(body: M.ForceOptimizationIn):
     out["seconds"] = time.perf_counter() - start
     out["compare"] = None
     if body.compare:
-        from graspforce.baselines.compare import compare
+        from graspforce.grasping.baselines.compare import compare
         out["compare"] = compare(grasp, w, res, body.compare, body.norm, body.magnitude)
     return _json(out)
 

@@ -279,7 +279,8 @@ class ForceClosureIn(Model):
 
 
 class RayShootIn(Model):
-    """The farthest point of `set` on the ray {lambda r : lambda >= 0} (graspforce.ray_shoot)."""
+    """The farthest point of `set` on the ray {lambda r : lambda >= 0}
+    (graspforce.shooting.ray_shoot)."""
     model_config = ConfigDict(json_schema_extra={"examples": [{
         "set": {"type": "hull", "sets": [
             {"type": "ellipsoid", "center": [0, 0, 0], "shape": [[1, 0, 0], [0, 2, 0],

@@ -1,6 +1,6 @@
-"""The baselines (graspforce.baselines) against closed forms, against pyramids from inside and
-outside, and against checks that need no solver (cones by Contact.contains and by qhull's facets,
-equilibrium residuals)."""
+"""The baselines (graspforce.grasping.baselines) against closed forms, against pyramids from inside
+and outside, and against checks that need no solver (cones by Contact.contains and by qhull's
+facets, equilibrium residuals)."""
 import math
 
 import numpy as np
@@ -18,7 +18,7 @@ from grasps import random_wrenches as wrenches
 from scipy.spatial import ConvexHull
 
 import graspforce as gf
-from graspforce.baselines import clarabel_socp, pyramid
+from graspforce.grasping.baselines import clarabel_socp, pyramid
 
 OBJECTIVES = [(n, m) for n in ("L1", "Linf") for m in ("normal", "full")]
 # qpsolvers warns on every status but "solved"; the statuses themselves are what we test

@@ -80,8 +80,11 @@ def check_optimal(grasp, P, w, res, ctx):
     h = T.grasp_support(P, n, res.norm, res.magnitude)
     assert n @ resultant > 0 and n @ (-w) > 0, ctx
     # a normal nearly orthogonal to r bounds nothing to eps: n.r, a sum of 6 products, is
-    # rounded by up to 6 ulps of ||n|| ||r||
-    dot_rounding = 6 * np.finfo(float).eps * np.linalg.norm(n) * np.linalg.norm(w) / (n @ (-w))
+    # rounded by up to 6 ulps of ||n|| ||r|| in the units the shot is made in, (force,
+    # torque / L) (Grasp.length), where n's torque part is L times the one returned
+    units = np.r_[1.0, 1.0, 1.0, np.full(3, grasp.length)]
+    dot_rounding = (6 * np.finfo(float).eps * np.linalg.norm(n * units)
+                    * np.linalg.norm(w / units) / (n @ (-w)))
     assert dot_rounding <= EPS, (ctx, "normal", n)
     lower_own = (n @ resultant) / h
     assert lower_own <= res.sigma * (1 + rounding(P, res, n, h)), \
@@ -404,8 +407,8 @@ def test_a_shot_without_steps_is_not_a_hit(method):
     # takes it) never queried a hyperplane: it reported a hit with t_upper = 0/0. Now such a shot
     # is "max_iter" with its honest bracket: t from the facet, t_upper from a hyperplane or inf.
     from graspforce import _core
-    from graspforce._start_table import start_table
-    from graspforce.ray_shoot import shot_layout
+    from graspforce.geometry._start_table import start_table
+    from graspforce.shooting.ray_shoot import shot_layout
     A = gf.Ellipsoid(np.zeros(4), np.diag([1.0, 2.0, 0.5, 1.5]))
     r = np.array([0.3, -0.2, 1.0, 0.5])
     for _ in range(2):

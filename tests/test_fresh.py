@@ -8,8 +8,8 @@ import pytest
 from grasp_cases import random_grasp, random_wrench
 
 import graspforce as gf
-from graspforce import wrench_space as WS
-from graspforce.sets import _compile
+from graspforce.grasping import wrench_space as WS
+from graspforce.geometry.sets import _compile
 
 OBJECTIVES = [(norm, magnitude) for norm in ("L1", "Linf") for magnitude in ("normal", "full")]
 
@@ -110,7 +110,7 @@ def test_template_targets_equal_the_generic_compile(m, norm, magnitude):
                 span = None if full else space.span
                 generic = WS.generic_target(grasp.contacts, norm, magnitude,
                                             grasp.contact_matrices, space.spin_weight, lifted,
-                                            span)
+                                            grasp.length, span)
                 check_same_target(fast, generic)
 
 
@@ -167,7 +167,7 @@ KINDS = ("ball", "ellipsoid", "box", "cone", "polytope", "capsule")
 @pytest.mark.parametrize("kind_a", KINDS)
 @pytest.mark.parametrize("kind_b", KINDS)
 def test_delta_templates_equal_the_generic_compile(kind_a, kind_b):
-    from graspforce import growth as GR
+    from graspforce.growth import growth as GR
     rng = np.random.default_rng(KINDS.index(kind_a) * 10 + KINDS.index(kind_b))
     GR._DELTA_TEMPLATES.clear()
     for i in range(4):
@@ -192,8 +192,8 @@ def test_delta_templates_equal_the_generic_compile(kind_a, kind_b):
 
 
 def test_closed_form_origin_verdicts_agree_with_facet_expansion():
-    from graspforce import growth as GR
-    from graspforce.quality import facet_expansion
+    from graspforce.growth import growth as GR
+    from graspforce.grasping.quality import facet_expansion
     rng = np.random.default_rng(2)
     decided = 0
     shift = lambda X, t: gf.affine(np.eye(3), X, t)       # noqa: E731

@@ -59,7 +59,7 @@ def wrench_normal(res):
     grasp's set in its span (MinForce.shot)."""
     shot = res.shot
     n = np.asarray(shot.normal)
-    if isinstance(shot.convex_set, gf.sets.Affine):
+    if isinstance(shot.convex_set, gf.geometry.sets.Affine):
         n = shot.convex_set.matrix.T @ n
     return n[-6:]
 
@@ -354,12 +354,13 @@ def test_every_method_leaves_the_lift_of_a_doubled_point_contact(method):
     # times the contact's disk of unit-normal forces) and r lies in its span: with the force
     # 1e-9 inside the cone, z_W(r) is 1e-9 from the disk's rim, where ZC's cone from b_k loses
     # rank. Every ZC-type method stalled there on an AMD EPYC (the test above, Linf with IE and
-    # ZC-IE); GJK-based steps finish it (graspforce._dispatch.unstall). Closed form: each copy
-    # carries f / 2, so t = 1 / (m sigma) = 1 / f_1 on the lift.
+    # ZC-IE); GJK-based steps finish it (`unstall`, core/shooting/dispatch.hpp). Closed form:
+    # each copy carries f / 2, so t = 1 / (m sigma) = 1 / f_1 on the lift.
     f = np.array([1.5, 0.84 * (1 - 1e-9), -0.63 * (1 - 1e-9), 0.0])
     contact = gf.Contact([0.03, -0.02, 0.05], [0.2, -0.3, -1.0], 0.7, 0.0)
     w = -(contact.matrix @ f)
-    lift = gf.Grasp([contact, contact])._space("Linf", "normal").target("ie", full=True).set
+    lift = gf.Grasp([contact, contact], length=1.0)._space("Linf", "normal").target(
+        "ie", full=True).set
     assert lift.dim == 7
     res = gf.ray_shoot(lift, np.r_[0.0, -w], method=method)
     assert res.status == "hit"
@@ -448,6 +449,9 @@ def test_wrenches_of_any_type_and_layout_agree():
     # is converted on the way, never a different answer
     grasp = asymmetric_grasp()
     w = np.array([0.3, -1.0, 2.0, 0.05, -0.1, 0.02])
+    # the second shot builds the set's start table, which every call below then starts from
+    # (graspforce._start_table)
+    grasp.min_force(w)
     ref = grasp.min_force(w)
     frozen = w.copy()
     frozen.flags.writeable = False
@@ -460,7 +464,7 @@ def test_wrenches_of_any_type_and_layout_agree():
     # write to the wrench) and gives min_force's sigma; any other wrench raises TypeError,
     # unconverted
     from graspforce._core import HIT, shoot_and_read_forces
-    from graspforce._start_table import start_table
+    from graspforce.geometry._start_table import start_table
     _, code, shoot, args, A, size, _, _, _ = grasp._call("L1", "normal", "zc-ie")
     assert shoot is shoot_and_read_forces
     packed = np.empty(size)
@@ -555,7 +559,7 @@ def test_answers_on_grasps_that_are_not_closure_certify_or_say_so(norm):
             if res.status == "optimal":
                 assert abs(res.sigma / truth - 1) <= tol, (trial, method, res.sigma, truth)
                 assert certified_gap(grasp, w, res) <= 2e-9
-                # the issue's bound (graspforce._shooters.POINT_HOLDS), not the 1e-12 that
+                # the issue's bound (POINT_HOLDS, core/api.hpp), not the 1e-12 that
                 # force-closure grasps meet
                 check_forces(grasp, w, res, residual_tol=1e-9)
             elif method == "zc-ie":
@@ -568,8 +572,8 @@ def test_corners_that_no_step_leaves_end_early():
     # Wrenches on the edge of what two contacts resist, drawn as in the test above but with the
     # weights first: on two of them ZC-IE and IE on W_Linf's lift found b_k inside ZC's cone
     # again and again without moving it, and went on to max_iter (10000 steps, no upper bound).
-    # Such a shot now stops after 100 idle steps (graspforce._shooters.IDLE_STEPS): "max_iter"
-    # with its honest (infinite) bracket.
+    # Such a shot now stops after 100 idle steps (IDLE_STEPS, core/shooting/zc_family.hpp):
+    # "max_iter" with its honest (infinite) bracket.
     for _, grasp, lams, w, two_points in edge_of_cone_cases(40, weights_first=True):
         for method in ("zc-ie", "ie"):
             res = grasp.min_force(w, norm="Linf", method=method)

@@ -296,7 +296,7 @@ def test_pose_formats_agree():
 def test_pose_arrays_of_any_type_and_layout_agree():
     # the compiled query takes C-contiguous float64 arrays (graspforce._core.growth_query, which
     # refuses anything else); every other array is converted on the way, never a different answer
-    from graspforce.growth import query
+    from graspforce.growth.growth import query
     rng = np.random.default_rng(15)
     A, B = gf.Capsule(0.2, 0.5), gf.Box([0.3, 0.1, 0.2])
     RA, RB = random_rotation(rng), random_rotation(rng)
@@ -359,7 +359,7 @@ def test_warm_start_on_a_moving_pair():
 
 def test_probes_whose_facet_misses_the_ray_fall_back_to_zc_from_the_origin():
     # "zc-ie" queries, warm and cold, start IE on the facet of support points spread around a
-    # guessed normal (core/warm.hpp). Around -r the ray never crosses that facet (every
+    # guessed normal (core/shooting/warm.hpp). Around -r the ray never crosses that facet (every
     # probe point is behind the origin), so the spread is widened WIDENINGS times and ZC-IE
     # starts from the origin: a plain ZC-IE shot's answer, for the probes' support calls more.
     from graspforce._core import HIT, ZC_IE, capacity, shoot, shoot_warm

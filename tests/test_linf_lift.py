@@ -1,5 +1,5 @@
-"""W_Linf's lift (graspforce.wrench_space): the set that min_force's IE and ZC-IE shoot at for
-norm "Linf", C = CH(U_i {e_i - c} x CH({0} U W_i)) in R^(m + 5), against W_Linf itself and the
+"""W_Linf's lift (graspforce.grasping.wrench_space): the set that min_force's IE and ZC-IE shoot at
+for norm "Linf", C = CH(U_i {e_i - c} x CH({0} U W_i)) in R^(m + 5), against W_Linf itself and the
 closed-form supports of truth.py."""
 import numpy as np
 import pytest
@@ -8,10 +8,16 @@ from grasp_cases import plain, random_grasp, random_wrench
 from grasps import box_grasp
 
 import graspforce as gf
-from graspforce.wrench_space import LIFT_MAX_CONTACTS, LIFTED_METHODS
+from graspforce.grasping.wrench_space import LIFT_MAX_CONTACTS, LIFTED_METHODS
 
 # truth.min_force_socp's accuracy (tests/test_grasp_forces.py, SOCP_TOL)
 SOCP_TOL = 5e-8
+
+
+def lift(grasp, magnitude):
+    """W_Linf's lift of the grasp's contacts in the grasp's own units (min_force shoots it in
+    the units (force, torque / L), Grasp.length)."""
+    return gf.Grasp(grasp.contacts, length=1.0)._space("Linf", magnitude).target("zc-ie").set
 
 
 @pytest.mark.parametrize("magnitude", ["normal", "full"])
@@ -22,8 +28,7 @@ def test_lift_meets_the_ray_where_the_sum_does(magnitude):
     hits = 0
     for m in range(2, LIFT_MAX_CONTACTS + 1):
         grasp = random_grasp(rng, m)
-        space = grasp._space("Linf", magnitude)
-        C, W = space.target("zc-ie").set, grasp.wrench_set("Linf", magnitude)
+        C, W = lift(grasp, magnitude), grasp.wrench_set("Linf", magnitude)
         assert (C.dim, W.dim) == (m + 5, 6)
         for _ in range(5):
             r = -random_wrench(rng)
@@ -50,7 +55,7 @@ def test_ie_does_not_repeat_a_vertex_at_the_numerical_floor():
     # full magnitude, 3 contacts, eps at the floor (3e-12): IE's updated inverse drifts, so a
     # support point equal to a vertex of the facet can still look beyond it by ~1e-10; the step
     # then replaced that vertex by itself, forever (max_iter). The step now refactors instead
-    # (core/zc_family.hpp). Rays within 1e-9 of one that did this
+    # (core/shooting/zc_family.hpp). Rays within 1e-9 of one that did this
     rng = np.random.default_rng(3)
     # the case found: the fifth of five wrenches on the second random grasp (2, then 3 contacts)
     random_grasp(rng, 2)
@@ -60,7 +65,7 @@ def test_ie_does_not_repeat_a_vertex_at_the_numerical_floor():
     for _ in range(4):
         random_wrench(rng)
     r = -random_wrench(rng)
-    C = grasp._space("Linf", "full").target("zc-ie").set
+    C = lift(grasp, "full")
     W = grasp.wrench_set("Linf", "full")
     truth = gf.ray_shoot(W, r, method="ie", eps=1e-12)
     status, sigma, _, _ = T.min_force_socp(plain(grasp), -r, "Linf", "full")
@@ -92,7 +97,7 @@ def test_lift_halves_ie_steps_on_the_ingot():
     from benchmarks.grasp_sets import ingot_grasp, random_wrenches
     grasp = ingot_grasp()
     W = grasp.wrench_set("Linf")
-    C = grasp._space("Linf", "normal").target("zc-ie").set
+    C = lift(grasp, "normal")
     steps_W, steps_C = [], []
     for w in random_wrenches(40, 2):
         res = grasp.min_force(w, norm="Linf")
@@ -107,15 +112,16 @@ def test_lift_halves_ie_steps_on_the_ingot():
 
 @pytest.mark.parametrize("magnitude", ["normal", "full"])
 def test_second_order_finish_on_the_lift(magnitude):
-    # the lift's contact sets are embeddings [0; I] of the R^6 ones (graspforce._kernel.EMBED):
-    # ZC-IE-Newton's pieces, curvature and flat leaves pass through them (graspforce._piece).
+    # the lift's contact sets are embeddings [0; I] of the R^6 ones
+    # (graspforce.geometry._kernel.EMBED): ZC-IE-Newton's pieces, curvature and flat leaves pass
+    # through them (core/geometry/piece.hpp).
     # Rays towards points of lam_1 W_1 + ... + lam_m W_m (0 < lam_i < 1), inside W_Linf; contacts
     # with friction, at least three (two contacts never hold an object in closure, and rays near
     # the boundary of their wrench cone stall ZC)
     rng = np.random.default_rng(5)
     for m in range(3, LIFT_MAX_CONTACTS + 1):
         grasp = random_grasp(rng, m, kinds=("soft", "point"))
-        C = grasp._space("Linf", magnitude).target("zc-ie").set
+        C = lift(grasp, magnitude)
         W = grasp.wrench_set("Linf", magnitude)
         for _ in range(4):
             r = sum(rng.uniform(0.2, 1.0) * W_i.support(rng.normal(size=6))[1]

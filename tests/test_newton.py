@@ -1,6 +1,6 @@
-"""The second-order finish of ZC-IE (core/piece.hpp, core/newton.hpp): the pieces' supports
-and curvature against finite differences, the rank-revealing KKT solve against numpy, and the
-finish itself against closed forms and SOCPs on the cases it was built for: smooth exits (a
+"""The second-order finish of ZC-IE (core/geometry/piece.hpp, core/shooting/newton.hpp): the pieces'
+supports and curvature against finite differences, the rank-revealing KKT solve against numpy, and
+the finish itself against closed forms and SOCPs on the cases it was built for: smooth exits (a
 growth rim contact), flat pieces (soft fingers whose friction is not saturated, an ellipsoid on a
 cone's base), and two flat pieces sharing a direction (two fingers on one face)."""
 import numpy as np
@@ -137,7 +137,7 @@ def test_solve_basic_solves_consistent_rank_deficient_systems(deficient):
 
 @pytest.mark.parametrize("deficient", [1, 3])
 def test_basic_null_space_spans_the_null_space(deficient):
-    # the corner finish moves solve_basic's answer along these columns (core/newton.hpp)
+    # the corner finish moves solve_basic's answer along these columns (core/shooting/newton.hpp)
     rng = np.random.default_rng(10 + deficient)
     n = 9
     M = rng.normal(size=(n, n))

@@ -438,9 +438,10 @@ def test_default_method_and_counters(method):
 @pytest.mark.parametrize("method", METHODS)
 def test_record_matches_the_compiled_result(method):
     """RayShot's fields are exactly the shooter's own result tuple, read through the packed array
-    (graspforce._packed) that crosses to Python; the views are consistent with each other."""
+    (graspforce.records._packed) that crosses to Python; the views are consistent with each
+    other."""
     from graspforce._core import shoot
-    from graspforce.ray_shoot import METHODS as CODES
+    from graspforce.shooting.ray_shoot import METHODS as CODES
     rng = np.random.default_rng(5)
     A = gf.hull(gf.Ellipsoid(*random_ellipsoid(rng, 5, k=3)), gf.Polytope(rng.standard_normal((7, 5))))
     r = rng.standard_normal(5)
@@ -464,7 +465,7 @@ def test_rays_of_any_type_and_layout_agree():
     # which refuses anything else); every other r is converted on the way: never a misread
     # array or a different answer
     from graspforce._core import capacity
-    from graspforce.ray_shoot import METHODS as CODES, shoot_packed
+    from graspforce.shooting.ray_shoot import METHODS as CODES, shoot_packed
     A = gf.hull(gf.Ball([0.2, 0.0, 0.1], 1.0), gf.Box([0.5, 1.5, 0.7]))
     r = np.array([0.3, -1.0, 2.0])
     gf.ray_shoot(A, r)

@@ -19,7 +19,7 @@ except importlib.metadata.PackageNotFoundError:
     pytest.skip("needs example-robot-data (the robots extra)", allow_module_level=True)
 
 import graspforce as gf  # noqa: E402
-from graspforce.baselines import clarabel_socp  # noqa: E402
+from graspforce.grasping.baselines import clarabel_socp  # noqa: E402
 from graspforce.robots import scenario_file  # noqa: E402
 
 SCENARIOS = gf.robots.list_scenarios()

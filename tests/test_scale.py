@@ -12,7 +12,7 @@ from grasp_cases import plain, random_grasp, random_wrench
 from grasps import box_grasp, two_finger_pinch
 
 import graspforce as gf
-from graspforce.quality import grasp_quality
+from graspforce.grasping.quality import grasp_quality
 
 SCALES = [1e-9, 1e9]
 OBJECTIVES = [("L1", "normal"), ("Linf", "normal"), ("L1", "full"), ("Linf", "full")]
@@ -118,6 +118,118 @@ def test_min_force_scales_with_the_forces(norm, magnitude, s):
                 assert np.linalg.norm(res.resultant + ws) <= 1e-9 * np.linalg.norm(ws)
                 assert np.abs(res.forces).max() <= 10 * res.sigma
     assert statuses == {"optimal", "infeasible"}
+
+
+def length_cases():
+    """(grasp, wrenches): soft and point contacts, force-closure or not (the pinch resists no
+    torque about the line through its contacts: its last wrench is infeasible)."""
+    rng = np.random.default_rng(17)
+    grasps = [box_grasp(), two_finger_pinch(), random_grasp(rng, 3, ("soft", "point")),
+              random_grasp(rng, 4, ("soft", "point")), random_grasp(rng, 2, ("point",))]
+    cases = []
+    for grasp in grasps:
+        wrenches = [random_wrench(rng, force=2.0, torque=0.1) for _ in range(3)]
+        if len(grasp) == 2:
+            wrenches.append(np.array([0.0, 0.0, -1.0, 0.05, 0.0, 0.0]))
+        cases.append((grasp, wrenches))
+    return cases
+
+
+def units(length):
+    """The diagonal of the map (force, torque) -> (force, torque / length)."""
+    return np.r_[1.0, 1.0, 1.0, np.full(3, 1.0 / length)]
+
+
+# (length, force) scales: lengths alone, and lengths with forces
+LENGTH_FORCE = [(1e-9, 1.0), (1e9, 1.0), (1e-9, 1e-9), (1e9, 1e9), (1e-9, 1e9)]
+
+
+@pytest.mark.parametrize("length, force", LENGTH_FORCE)
+@pytest.mark.parametrize("norm, magnitude", OBJECTIVES)
+def test_min_force_with_lengths_scaled(norm, magnitude, length, force):
+    # positions and mu_s times `length`, the load's forces times `force` and its torques times
+    # both: the grasp's length L follows (a power of two within a factor 2 of the scaled one), so
+    # the shot is the same problem in the units (force, torque / L). Sigma scales with the
+    # forces, the status does not change, and so do the forces (the spin moment f_4 with
+    # length too); each answer carries its certificate in those units (docs/grasp-api.md)
+    statuses = set()
+    for grasp, wrenches in length_cases():
+        g = scaled_grasp(grasp, length)
+        assert 0.5 * length <= g.length / grasp.length <= 2.0 * length
+        for w in wrenches:
+            ws = scaled_wrench(w, length, force)
+            for method in gf.METHODS:
+                ctx = (method, len(grasp), w)
+                base = grasp.min_force(w, norm, magnitude, method=method)
+                res = g.min_force(ws, norm, magnitude, method=method)
+                assert res.status == base.status, ctx
+                statuses.add(res.status)
+                if base.status != "optimal":
+                    assert res.sigma == base.sigma == math.inf, ctx
+                    continue
+                assert res.sigma == pytest.approx(force * base.sigma, rel=2e-9), ctx
+                assert res.sigma_lower <= res.sigma * (1 + 1e-9), ctx
+                assert res.sigma / res.sigma_lower - 1 <= 1e-9 + 1e-15, ctx
+                # forces in their cones that resist the load to 1e-9 in the units (force,
+                # torque / L)
+                for c, f in zip(g.contacts, res.forces):
+                    assert T.cone_excess(c, f) <= 1e-12, (ctx, f)
+                resultant = sum(G @ f for (G, _, _), f in zip(plain(g), res.forces))
+                D = units(g.length)
+                assert np.linalg.norm(D * (resultant + ws)) <= 1e-9 * np.linalg.norm(D * ws), ctx
+                # the forces in the unscaled units are an answer to the unscaled problem: in
+                # equilibrium with w and of objective base.sigma; where the minimum is unique (two
+                # point contacts, docs/grasp-api.md) they are the unscaled answer's
+                back = res.forces / (np.r_[1.0, 1.0, 1.0, length] * force)
+                resultant = sum(G @ f for (G, _, _), f in zip(plain(grasp), back))
+                D = units(grasp.length)
+                assert np.linalg.norm(D * (resultant + w)) <= 2e-9 * np.linalg.norm(D * w), ctx
+                assert T.contact_objective(back, plain(grasp), norm, magnitude) == \
+                    pytest.approx(base.sigma, rel=2e-9), ctx
+                if len(grasp) == 2 and all(c.kind == "point" for c in grasp.contacts):
+                    assert np.abs(back - base.forces).max() <= 1e-6 * base.sigma, (ctx, back)
+    assert statuses == {"optimal", "infeasible"}
+
+
+@pytest.mark.parametrize("length, force", LENGTH_FORCE)
+def test_min_force_with_lengths_scaled_agrees_with_an_socp(length, force):
+    # an independent check: Clarabel on the scaled problem written in the units (force / F,
+    # torque / (F L)) and with the spin moment f_4 / L for f_4 (its cone's mu_s / L for mu_s),
+    # where it is as well conditioned as the unscaled one (in the grasp's own units it is not:
+    # torque rows 1e18 apart from force rows; and Clarabel's tolerances are absolute). Not on
+    # two contacts: their loads lie on or off the boundary of the cone of wrenches they resist,
+    # where Clarabel stops short of a verdict at any scale
+    for grasp, wrenches in length_cases():
+        if len(grasp) == 2:
+            continue
+        g = scaled_grasp(grasp, length)
+        L = g.length
+        D = units(L)
+        P = [(D[:, None] * G * np.r_[1.0, 1.0, 1.0, L], mu, mu_s / L) for G, mu, mu_s in plain(g)]
+        for w in wrenches:
+            ws = scaled_wrench(w, length, force)
+            for norm, magnitude in OBJECTIVES:
+                res = g.min_force(ws, norm, magnitude)
+                status, sigma, _, _ = T.min_force_socp(P, D * ws / force, norm, magnitude)
+                assert res.status == status, (norm, magnitude, w)
+                if status == "optimal":
+                    assert res.sigma == pytest.approx(force * sigma, rel=5e-8), \
+                        (norm, magnitude, w)
+
+
+def test_grasp_length_default_and_given():
+    grasp = box_grasp()
+    # the RMS lever arm sqrt(|p_i|^2 + mu_si^2) is 0.0524 m here: 2 x 0.0524 -> 0.125
+    assert grasp.length == 0.125
+    assert scaled_grasp(grasp, 2.0 ** 30).length == 2.0 ** 27
+    assert gf.Grasp([gf.Contact(np.zeros(3), [0, 0, 1], 0.5)]).length == 1.0
+    given = gf.Grasp(grasp.contacts, length=0.3)
+    assert given.length == 0.3
+    w = np.array([0.3, -1.0, 2.0, 0.05, -0.1, 0.02])
+    assert given.min_force(w).sigma == pytest.approx(grasp.min_force(w).sigma, rel=2e-9)
+    for bad in (0.0, -1.0, math.inf, math.nan):
+        with pytest.raises(ValueError, match="length"):
+            gf.Grasp(grasp.contacts, length=bad)
 
 
 def growth_pairs():

@@ -115,7 +115,7 @@ def test_batch_agrees(client):
     local = grasp.min_force_batch(W, forces=True)
     grasp.reset_start_tables()
     remote = client.min_force_batch(grasp, W, forces=True)
-    assert isinstance(remote, gf.results.MinForceBatch)
+    assert isinstance(remote, gf.records.results.MinForceBatch)
     assert_close(remote.to_dict(), local.to_dict())
     # each entry is min_force's answer
     for i in (0, 17, 39):

@@ -242,8 +242,8 @@ def test_operator_support(name):
 
 def test_only_strict_embeddings_compile_to_offset_reads():
     # [0; I] with zero rows is EMBED; a square identity stays AFFINE, because growth distance
-    # rewrites its poses' matrices in place (graspforce._growth), and so does a near-embedding
-    from graspforce import _kernel as K
+    # rewrites its poses' matrices in place (core/growth/growth.hpp), and so does a near-embedding
+    from graspforce.geometry import _kernel as K
     inner = gf.Ball(np.zeros(3), 1.0)
     M = np.vstack((np.zeros((2, 3)), np.eye(3)))
     near = M.copy()
@@ -257,7 +257,7 @@ def test_only_strict_embeddings_compile_to_offset_reads():
 def test_embedded_origin_hulls_compile_to_one_node():
     # an embedding of CH({0} U X) written hull(Polytope([[0, ..]]), X) is one ORIGIN_EMBED node
     # over X; the origin keeps its witness slot. An origin elsewhere, or second, is not fused
-    from graspforce import _kernel as K
+    from graspforce.geometry import _kernel as K
     X = gf.Ball(np.full(3, 2.0), 1.0)
     M = np.vstack((np.zeros((2, 3)), np.eye(3)))
     fused = gf.affine(M, gf.hull(gf.Polytope(np.zeros((1, 3))), X))
@@ -277,8 +277,9 @@ def test_embedded_origin_hulls_compile_to_one_node():
 
 
 def _support_by(plan, A, u):
-    """(h, point, witness vector) of A in direction u, evaluated by `plan` (graspforce._kernel)."""
-    from graspforce import _kernel as K
+    """(h, point, witness vector) of A in direction u, evaluated by `plan`
+    (graspforce.geometry._kernel)."""
+    from graspforce.geometry import _kernel as K
     ints, floats = A.program
     ints = ints.copy()
     ints[-1] = plan
@@ -291,9 +292,9 @@ def test_ellipsoid_hulls_take_one_loop_that_matches_the_general_passes():
     # the wrench sets of soft fingers (ellipsoids in R^6 with 3 axes), bare (W_L1) or lifted
     # (W_Linf's lift, the origin winning for directions that all cones oppose): the plan's loop
     # gives the four passes' value, point and witnesses; anything else keeps the passes (point
-    # contacts' 2 axes too: graspforce._kernel.ELLIPSOID_HULL)
-    from graspforce import _kernel as K
-    from graspforce.wrench_space import lift_rows, lift_summand
+    # contacts' 2 axes too: graspforce.geometry._kernel.ELLIPSOID_HULL)
+    from graspforce.geometry import _kernel as K
+    from graspforce.grasping.wrench_space import lift_rows, lift_summand
     rng = np.random.default_rng(25)
     W = [gf.Ellipsoid(*random_ellipsoid(rng, 6, 3, c_scale=1.0)) for _ in range(4)]
     for A in (gf.hull(*W), gf.hull(*[lift_summand(W_i, e) for W_i, e in zip(W, lift_rows(4))])):
@@ -325,9 +326,10 @@ def test_ellipsoid_hulls_take_one_loop_that_matches_the_general_passes():
 
 def test_posed_sums_take_one_loop_that_matches_the_general_passes():
     # growth distance's Delta = R_A(A_0) - R_B(B_0) and any sum of leaves under 3x3 maps: the
-    # plan's loop (graspforce._kernel.POSED_SUM) gives the passes' value, point and witnesses for
-    # every leaf, in registers (3-axis ellipsoids, truncated cones) or by the passes' leaf code
-    from graspforce import _kernel as K
+    # plan's loop (graspforce.geometry._kernel.POSED_SUM) gives the passes' value, point and
+    # witnesses for every leaf, in registers (3-axis ellipsoids, truncated cones) or by the
+    # passes' leaf code
+    from graspforce.geometry import _kernel as K
     rng = np.random.default_rng(26)
     leaves = [gf.Ellipsoid(*random_ellipsoid(rng, 3, 3)), gf.Ball(np.zeros(3), 0.7),
               gf.TruncatedCone(0.6, 0.2, 1.1), gf.TruncatedCone(0.5, 0.0, 0.8),

@@ -145,7 +145,7 @@ def test_zc_ie_compiled_for_its_dimension_agrees_with_the_general_version(n):
 
 
 def probe_facet(A, r, spread, rng):
-    """IE's start as core/warm.hpp makes it: the support points P of A in n unit directions
+    """IE's start as core/shooting/warm.hpp makes it: the support points P of A in n unit directions
     D around r (a tilted guess, so that the facet is not already at z_A(r)), the weights of the
     ray's crossing t r = lam @ P and t; None when the ray misses the facet."""
     ints, floats = A.program

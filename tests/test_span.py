@@ -11,8 +11,8 @@ from grasp_cases import plain
 from test_certificates import EPS, METHODS, OBJECTIVES, check_answer
 
 import graspforce as gf
-from graspforce import wrench_space as WS
-from graspforce.sets import Affine
+from graspforce.grasping import wrench_space as WS
+from graspforce.geometry.sets import Affine
 
 
 def tilted(v, rng, degrees):
@@ -60,10 +60,13 @@ def loads(grasp, rng):
             f.append([1.0 + rng.uniform(), *(t[1:] if c.mu > 0 else (0.0, 0.0)),
                       c.mu_spin * rng.uniform(-0.5, 0.5)])
         out.append((-sum(c.matrix @ fi for c, fi in zip(grasp.contacts, f)), "resisted"))
-    w = np.r_[rng.normal(0.0, 5.0, 3), rng.normal(0.0, 0.3, 3)]
-    out.append((span.T @ (span @ w), "span"))
-    off = np.linalg.svd(span.T)[0][:, -1]          # a unit direction outside the span
-    out += [(w + 1e-6 * np.linalg.norm(w) * off, label + " off") for w, label in out]
+    # the span is in the units (force, torque / L) the sets are shot in (Grasp.length)
+    units = np.r_[1.0, 1.0, 1.0, np.full(3, grasp.length)]
+    w = np.r_[rng.normal(0.0, 5.0, 3), rng.normal(0.0, 0.3, 3)] / units
+    out.append((units * (span.T @ (span @ w)), "span"))
+    off = units * np.linalg.svd(span.T)[0][:, -1]          # a direction outside the span
+    out += [(w + 1e-6 * np.linalg.norm(w) * off / np.linalg.norm(off), label + " off")
+            for w, label in out]
     return out
 
 

@@ -1,12 +1,12 @@
-"""The start table of repeated shots (graspforce._start_table): its facet is the exit of the ray
-from the inner polytope CH(P_0) (LP truth), shots started from it keep the contract, and it is
-ignored wherever it would not be sound (changed parameters, origin outside, flat sets)."""
+"""The start table of repeated shots (graspforce.geometry._start_table): its facet is the exit of
+the ray from the inner polytope CH(P_0) (LP truth), shots started from it keep the contract, and it
+is ignored wherever it would not be sound (changed parameters, origin outside, flat sets)."""
 import numpy as np
 import pytest
 from scipy.spatial import ConvexHull
 
 import graspforce as gf
-import graspforce._start_table as ST
+import graspforce.geometry._start_table as ST
 from graspforce._core.testing import table_start
 import truth as T
 from conftest import build, random_polytope
@@ -26,8 +26,9 @@ def _table_parts(table):
 
 
 def _start(A, r):
-    """The core's table_start (core/start_table.hpp) run from Python: (t_0, facet points, weights,
-    witness rows), after checking the facet's hyperplane and inverse against the points."""
+    """The core's table_start (core/shooting/start_table.hpp) run from Python: (t_0, facet points,
+    weights, witness rows), after checking the facet's hyperplane and inverse against the
+    points."""
     n = A.dim
     P, Wt, lam = np.empty((n + 2, n)), np.empty((n + 2, A.witness_size)), np.empty(n + 2)
     y, B = np.empty(n), np.empty((n, n))
@@ -185,10 +186,10 @@ def test_table_ignored_once_the_parameters_change(check_shot):
     gf.ray_shoot(A, r)
     gf.ray_shoot(A, r)
     assert A._start_table.size > 0
-    # shrink the polytope in place, as graspforce._growth rewrites a pose: the table's points
-    # now lie outside A, and a start from them would overshoot z_A(r)
+    # shrink the polytope in place, as the growth query (core/growth/growth.hpp) rewrites a pose:
+    # the table's points now lie outside A, and a start from them would overshoot z_A(r)
     ints, floats = A.program
-    start = gf._kernel.param_start(ints, 0)
+    start = gf.geometry._kernel.param_start(ints, 0)
     floats[start + 2:start + 2 + V.size] *= 0.5
     t0, _, _, _ = _start(A, r)
     assert t0 == 0.0

@@ -43,3 +43,28 @@ def test_threads_on_one_set_agree_with_one_by_one():
     alone = [shots(r) for r in rays]
     with ThreadPoolExecutor(8) as pool:
         assert list(pool.map(shots, rays)) == alone
+
+
+def test_growth_distance_from_threads_on_the_same_shapes():
+    """gf.growth_distance keeps recent solvers, each of which writes its query's poses into its
+    program: threads calling it on the same shape objects at once must not share one."""
+    rng = np.random.default_rng(8)
+    A = gf.Ellipsoid(np.zeros(3), np.diag([0.05, 0.03, 0.02]))
+    B = gf.TruncatedCone(0.03, 0.01, 0.08)
+
+    def rotation():
+        q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+        q *= np.sign(np.diag(r))
+        return q if np.linalg.det(q) > 0 else -q
+
+    poses = [((rotation(), rng.normal(0, 0.05, 3)), (rotation(), rng.normal(0, 0.05, 3) + 0.2))
+             for _ in range(3000)]
+
+    def answer(pair):
+        res = gf.growth_distance(A, pair[0], B, pair[1])
+        return (res.status, res.sigma, res.sigma_lower, res.sigma_upper)
+
+    alone = [answer(p) for p in poses]
+    with ThreadPoolExecutor(4) as pool:
+        together = list(pool.map(answer, poses, chunksize=1))
+    assert together == alone

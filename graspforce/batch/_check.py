@@ -1,7 +1,7 @@
 """Checks of a batch's arguments that name the field and the rule."""
 import numpy as np
 
-from ..grasp import Grasp
+from ..grasping.grasp import Grasp
 
 
 def check_grasp(grasp, name="grasp"):

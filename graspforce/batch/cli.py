@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from ..wrench_space import MAGNITUDES, NORMS
+from ..grasping.wrench_space import MAGNITUDES, NORMS
 from .distributed import chunk_bounds
 from .forces import min_force
 from .inputs import WRENCH_COLUMNS, load_grasp, read_wrenches

@@ -97,7 +97,7 @@ def min_force_grasps_on_cluster(client, grasps, wrench, norm, magnitude, method,
 
 
 def _growth_chunk(A, B, R_a, p_a, R_b, p_b, method, eps, max_iter, touching_tol):
-    from ..growth import GrowthDistance
+    from ..growth.growth import GrowthDistance
     from .growth import growth_rows_local
     R_a, p_a, R_b, p_b = (np.require(x, np.float64, ["C_CONTIGUOUS", "ALIGNED"])
                           for x in (R_a, p_a, R_b, p_b))

@@ -3,9 +3,9 @@ import numpy as np
 
 from .._core import batch as _codes
 from .._core import min_force_rows
-from .._start_table import NO_TABLE, SEEN_ONCE, start_table
+from ..geometry._start_table import NO_TABLE, SEEN_ONCE, start_table
 from .._validate import finite_vector
-from ..ray_shoot import check_tolerances
+from ..shooting.ray_shoot import check_tolerances
 from ._check import check_grasp, thread_count, wrench_rows
 from .result import BatchForces
 

@@ -3,7 +3,7 @@ import numpy as np
 
 from .._core import growth_rows
 from .._core.growth import BAD_POSE_A, BAD_POSE_B
-from ..growth import _VERDICTS, GrowthDistance
+from ..growth.growth import _VERDICTS, GrowthDistance
 from ._check import thread_count
 from .result import BatchGrowth
 

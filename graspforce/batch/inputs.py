@@ -5,8 +5,8 @@ import pathlib
 
 import numpy as np
 
-from ..contact import Contact
-from ..grasp import Grasp
+from ..grasping.contact import Contact
+from ..grasping.grasp import Grasp
 
 WRENCH_COLUMNS = ("fx", "fy", "fz", "tx", "ty", "tz")
 

@@ -3,7 +3,7 @@ import numpy as np
 
 from .._core import batch as _codes
 
-# a row's status, indexed by its code (core/batch.hpp)
+# a row's status, indexed by its code (core/python/batch.hpp)
 STATUSES = ("optimal", "infeasible", "max_iter", "bad_wrench")
 OPTIMAL, INFEASIBLE, MAX_ITER, BAD_WRENCH = (_codes.OPTIMAL, _codes.INFEASIBLE, _codes.MAX_ITER,
                                              _codes.BAD_WRENCH)

@@ -9,8 +9,8 @@ scenario's configuration, so that torques stay small next to forces.
 import numpy as np
 import pinocchio as pin
 
-from ..contact import Contact
-from ..grasp import Grasp
+from ..grasping.contact import Contact
+from ..grasping.grasp import Grasp
 from . import kinematics, models, shapes
 from .scenario_file import FRAME_AXES
 from .solution import joint_torques, RobotForces

@@ -13,7 +13,7 @@ import dataclasses
 import numpy as np
 import pinocchio as pin
 
-from ..results import MinForce
+from ..records.results import MinForce
 
 
 def joint_torques(scenario, wrenches, v=None, a=None):

@@ -1,0 +1,489 @@
+#pragma once
+
+#include "api.hpp"
+#include "geometry/piece.hpp"
+
+// A second-order finish for ray shooting: Newton's method on the pieces that form the exit face.
+//
+// Ray shooting is the convex program t* = min { h_A(u) : u^T r = 1 } (z_A(r) = t* r; IE's facet
+// normals are its cutting planes, which is why IE converges only linearly on curved sets). Near
+// the answer h_A is the maximum of the supports h_p of a few smooth pieces (piece.hpp) and the
+// minimum is the root of the KKT system, in u, the piece weights lam_p, t and tau:
+//
+//     sum_p lam_p s_p(u) + sum_l T_l y_l = t r,   h_p(u) = tau (each p),   T_l^T u = 0 (each l),
+//     sum_p lam_p = 1,   u^T r = 1
+//
+// (the first line is z_A(r) = t r as the convex combination of eq. 2's support points that Z_A(r)
+// holds; the second puts every piece's point on one hyperplane with normal u). A flat leaf l of
+// piece p (its whole body is in the face, e.g. a soft finger whose friction is not saturated) adds
+// the point T_l x_l, x_l free, through y_l = lam_p x_l, and T_l^T u = 0. The Jacobian needs the
+// pieces' curvatures J_p = ds_p/du; Newton converges quadratically from the facet that IE's
+// cutting planes have brought close. The pieces are read off the witnesses of the facet's
+// vertices (a leaf is flat where ||T^T u|| is tiny); a piece whose weight turns negative leaves
+// the system, one that the final check finds sticking out joins it, a smooth leaf that meets its
+// kink turns flat, and a flat leaf whose point leaves the body turns smooth.
+//
+// Nothing of Newton's is trusted: the points s_p(u) are points of A, so their convex combination
+// z (weights re-solved by least squares on the final points) is in A and on the ray to rounding
+// (Fig. 3b's rule); one call of the full support map at u gives the hyperplane H(u, s_A(u)) that
+// bounds z_A(r) from outside. When the bracket is wider than eps, or the system is singular (a
+// polytope face with fewer than n vertices, a flat face whose normal sits on a piece's kink), the
+// finish fails and IE goes on.
+
+namespace gf {
+
+namespace newton_detail {
+
+// Newton steps of one attempt, over all changes of the piece set
+constexpr Int NEWTON_STEPS = 12;
+// ||du|| <= STEP_TOL ||u||: one more step leaves an error far below eps
+constexpr double STEP_TOL = 1e-7;
+// ||T^T u|| <= FLAT_RHO ||T|| ||u|| on the facet's normal: the leaf is flat,
+constexpr double FLAT_RHO = 1e-3;
+// or its facet vertices' mean local point is this far inside (squared)
+constexpr double FLAT_SPREAD = 0.5;
+// a corner finish's rank tolerance, relative to the KKT matrix's largest entry: rounding in u and
+// the curvatures of the pieces, amplified where the normal is far from unique
+constexpr double CORNER_RANK = 1e-9;
+constexpr Int MAX_CHANGES = 6;       // changes of the piece set in one attempt
+
+// (count of flat leaves, entries of y) of `flats`
+struct Flats {
+    Int nf;
+    Int ny;
+};
+
+// The flat leaves of the pieces: their piece, node, offset in y and size; T's columns and
+// y = lam_p x. count -1 when T has no room for them.
+inline Flats flats(IVec ints, Vec f, Mat PW, Vec lam, Int m, Mat T, Vec y, IVec fpiece,
+                   IVec fleaf, IVec foff, IVec fq, Mat C, Mat C2) {
+    const Int nn = ints[0];
+    const Blocks B = blocks(nn);
+    Int nf = 0;
+    Int ny = 0;
+    for (Int p = 0; p < m; ++p) {
+        for (Int i = 0; i < nn; ++i) {
+            if (ints[B.KIND + i] >= HULL) continue;
+            const Int w = ints[B.WSTART + i];
+            if (PW(p, w) != piece::FLAT) continue;
+            const Int q = piece::flat_columns(ints, f, i, T, ny, C, C2);
+            if (q < 0) return {-1, ny};
+            for (Int b = 0; b < q; ++b) y[ny + b] = lam[p] * PW(p, w + 1 + b);
+            fpiece[nf] = p;
+            fleaf[nf] = i;
+            foff[nf] = ny;
+            fq[nf] = q;
+            nf += 1;
+            ny += q;
+        }
+    }
+    return {nf, ny};
+}
+
+// Turn a leaf of piece p flat with local point x (a disk keeps its side).
+inline void mark_flat(IVec ints, Vec f, Mat PW, Int p, Int leaf, Vec x) {
+    const Int nn = ints[0];
+    const Blocks B = blocks(nn);
+    const Int w = ints[B.WSTART + leaf];
+    PW(p, w) = piece::FLAT;
+    const Int q = piece::local_size(ints[B.KIND + leaf], f, ints[B.PSTART + leaf]);
+    for (Int b = 0; b < q; ++b) PW(p, w + 1 + b) = x[b];
+}
+
+// Move the basic solution dx of a rank-deficient system (`solve_basic`'s factors in lu, pcol)
+// within the system's null space so that u + du is shortest. mats (3 N, N) and vecs (3, N) are
+// scratch.
+inline void shortest_u(Vec u, Int n, Int N, Int rank, Mat lu, IVec pcol, Vec dx, Mat mats,
+                       Mat vecs) {
+    const Int Nm = mats.rows / 3;
+    const Mat Z = mats.rows_range(0, Nm);
+    const Mat D = mats.rows_range(Nm, 2 * Nm);
+    const Mat work = mats.rows_range(2 * Nm, 3 * Nm);
+    const Vec x = vecs.row(0);
+    const Vec rhs = vecs.row(1);
+    const Vec wrhs = vecs.row(2);
+    const Int q = N - rank;
+    basic_null_space(lu, pcol, N, rank, Z, x);
+    for (Int i = 0; i < n; ++i) {
+        for (Int e = 0; e < q; ++e) D(i, e) = Z(i, e);
+        rhs[i] = -(u[i] + dx[i]);
+    }
+    // false when some null direction leaves u alone (free weights): the basic solution stands
+    if (lstsq(D, n, q, rhs, x, 0, work, wrhs)) {
+        for (Int i = 0; i < N; ++i)
+            for (Int e = 0; e < q; ++e) dx[i] += Z(i, e) * x[e];
+    }
+}
+
+// One Newton step of the KKT system (header comment) into dx = (du, dlam, dy, dt, dtau), by LU
+// with partial pivoting, or a basic solution (complete pivoting) where the weights are not unique
+// (two flat leaves that share a direction: two fingers on one face whose friction split is
+// free). JJ: the pieces' Jacobians, (m n, n); sm: (m, n) work for the pieces' smooth parts.
+// corner: every step by complete pivoting, the shortest u (newton_finish); mats, vecs:
+// `shortest_u`'s scratch.
+inline bool solve_kkt(Vec r, Vec u, double t, double tau, Vec lam, Mat S, Mat JJ, Int m, Mat T,
+                      Vec y, Int nf, Int ny, IVec fpiece, IVec foff, IVec fq, Mat sm, Mat K,
+                      Mat lu, IVec prow, IVec pcol, Vec rhs, Vec dx, bool corner, Mat mats,
+                      Mat vecs) {
+    const Int n = r.n;
+    const Int N = n + m + ny + 2;
+    const Int it = n + m + ny;
+    for (Int i = 0; i < N; ++i) {
+        rhs[i] = 0.0;
+        for (Int j = 0; j < N; ++j) K(i, j) = 0.0;
+    }
+    // the smooth part s_p of each piece's point: S_p less its flat leaves' T x
+    for (Int p = 0; p < m; ++p)
+        for (Int i = 0; i < n; ++i) sm(p, i) = S(p, i);
+    for (Int e = 0; e < nf; ++e) {
+        const Int p = fpiece[e];
+        if (lam[p] != 0.0) {
+            for (Int b = 0; b < fq[e]; ++b) {
+                const double xb = y[foff[e] + b] / lam[p];
+                for (Int i = 0; i < n; ++i) sm(p, i) -= T(i, foff[e] + b) * xb;
+            }
+        }
+    }
+    for (Int i = 0; i < n; ++i) {
+        double F = -t * r[i];
+        for (Int p = 0; p < m; ++p) {
+            F += lam[p] * S(p, i);
+            for (Int b = 0; b < n; ++b) K(i, b) += lam[p] * JJ(p * n + i, b);
+            K(i, n + p) = sm(p, i);
+        }
+        for (Int c = 0; c < ny; ++c) K(i, n + m + c) = T(i, c);
+        K(i, it) = -r[i];
+        rhs[i] = -F;
+    }
+    for (Int p = 0; p < m; ++p) {
+        for (Int b = 0; b < n; ++b) K(n + p, b) = sm(p, b);
+        K(n + p, it + 1) = -1.0;
+        rhs[n + p] = tau - dot(u, sm.row(p));
+    }
+    Int row = n + m;
+    for (Int c = 0; c < ny; ++c) {
+        double s = 0.0;
+        for (Int b = 0; b < n; ++b) {
+            K(row, b) = T(b, c);
+            s += T(b, c) * u[b];
+        }
+        rhs[row] = -s;
+        row += 1;
+    }
+    double total = 0.0;
+    for (Int p = 0; p < m; ++p) {
+        K(row, n + p) = 1.0;
+        total += lam[p];
+    }
+    rhs[row] = 1.0 - total;
+    for (Int b = 0; b < n; ++b) K(row + 1, b) = r[b];
+    rhs[row + 1] = 1.0 - dot(u, r);
+    if (corner) {
+        const Int rank = solve_basic(K, N, lu, prow, pcol, rhs, dx, CORNER_RANK);
+        if (rank < N) shortest_u(u, n, N, rank, lu, pcol, dx, mats, vecs);
+        return rank > 0;
+    }
+    if (lu_factor(K, N, lu, prow)) {
+        lu_solve(lu, prow, N, rhs, dx);
+        return true;
+    }
+    return solve_basic(K, N, lu, prow, pcol, rhs, dx) > n;
+}
+
+// newton_finish's answer when it gives up: the steps and support calls it spent.
+inline NewtonOut failed(double t, double t_up, double h, Int steps, Int calls, Array& nrm,
+                        Array& S, Array& lm, Array& WS) {
+    return {false, t, t_up, h, 0, steps, calls, std::move(nrm), std::move(S), std::move(lm),
+            std::move(WS)};
+}
+
+}  // namespace newton_detail
+
+// Try to finish a shot from the simplex P[:k] (witnesses Wt, weights lam: t r is their convex
+// combination or near it) and the normal of its facet. On ok, z = t r is the convex combination
+// `weights` of V[:m] (points of A, witnesses W), within rounding of the ray, and H(normal, h_n)
+// supports A with (t_upper - t) <= eps t.
+//
+// corner: the ray runs along the boundary of CO(A) (ZC stalled, or its cone reproduced b_k only
+// to ~1e-8: zc_from), so z_A(r) is a corner whose normals form a cone of more than one ray, the
+// KKT system is singular, and the given normal (ZC's, nearly orthogonal to r) is a poor
+// certificate. Every step is then a basic solution by complete pivoting, moved within the null
+// space so that u (u^T r = 1) stays shortest: the normal that bounds t best. (Two contacts,
+// wrenches on the edge of what they resist: the plain steps finish some two-point-contact cases,
+// the corner steps the others, and three-term corners where the plain steps fail.)
+NewtonOut newton_finish(IVec ints, Vec f, Vec r, double eps, Mat P, Mat Wt, Vec lam, Int k,
+                        Vec normal, double t, bool corner) {
+    using namespace newton_detail;
+    const Int n = r.n;
+    const Int ws = Wt.cols;
+    const Int nn = ints[0];
+    const Blocks B = blocks(nn);
+    const Int cap = k + 3;
+    // what the answer returns, owned apart so that it moves out
+    Array S(cap, n);
+    Array WS(cap, ws);
+    Array lmA(cap);
+    Array nrmA(n);
+    const auto [size, nmax, qmax] = piece::jacobian_size(ints, f);
+    const Int ycap = 2 * n + 2;
+    const Int N = n + cap + ycap + 2;
+    const Int Nm = corner ? N : 0;
+    // the work arrays, one float and one int buffer
+    Array fbuf(cap * ws + cap * n * n + cap * n + n * ycap + ycap + 2 * nmax * qmax + 2 * N * N +
+               2 * N + size + 3 * Nm * Nm + 3 * Nm + 2 * n + ws + qmax);
+    IArray ibuf(k + 4 * ycap + 2 * N);
+    Int fat = 0;
+    auto take_mat = [&](Int rows, Int cols) {
+        const Mat M = mat_view(fbuf.vec(), fat, rows, cols);
+        fat += rows * cols;
+        return M;
+    };
+    auto take = [&](Int len) {
+        const Vec v = fbuf.vec().segment(fat, len);
+        fat += len;
+        return v;
+    };
+    Int iat = 0;
+    auto take_int = [&](Int len) {
+        const IVec v{ibuf.data.data() + iat, len};
+        iat += len;
+        return v;
+    };
+    const Mat PW = take_mat(cap, ws);
+    const Mat JJ = take_mat(cap * n, n);   // (cap, n, n)
+    const Mat sm = take_mat(cap, n);
+    const Vec lm = lmA.vec();
+    const Mat Sm = S.mat();
+    const Mat WSm = WS.mat();
+    const IVec group = take_int(k);
+    const Mat T = take_mat(n, ycap);
+    const Vec y = take(ycap);
+    const IVec fpiece = take_int(ycap);
+    const IVec fleaf = take_int(ycap);
+    const IVec foff = take_int(ycap);
+    const IVec fq = take_int(ycap);
+    const Mat C = take_mat(nmax, qmax);
+    const Mat C2 = take_mat(nmax, qmax);
+    const Mat K = take_mat(N, N);
+    const Mat lu = take_mat(N, N);
+    const IVec prow = take_int(N);
+    const IVec pcol = take_int(N);
+    const Vec rhs = take(N);
+    const Vec dx = take(N);
+    const Vec jw = take(size);
+    const Mat mats = take_mat(3 * Nm, Nm);   // (3, N, N) when corner
+    const Mat vecs = take_mat(3, Nm);
+    const Vec u = take(n);
+    const Vec point = take(n);
+    const Vec wit = take(ws);
+    const Vec nrm = nrmA.vec();
+    const Vec xbar = take(qmax);             // zeros
+    Int steps = 0;
+    Int calls = 0;
+    const double nr = dot(normal, r);
+    if (nr <= 0.0) return failed(t, INF, 0.0, steps, calls, nrmA, S, lmA, WS);
+    for (Int i = 0; i < n; ++i) u[i] = normal[i] / nr;
+    // the pieces of the simplex, each weighted by the sum of its vertices' weights
+    Int m = 0;
+    for (Int j = 0; j < k; ++j) {
+        group[j] = m;
+        for (Int p = 0; p < m; ++p) {
+            if (piece::same_piece(ints, Wt.row(j), PW.row(p))) {
+                group[j] = p;
+                break;
+            }
+        }
+        if (group[j] == m) {
+            for (Int a = 0; a < ws; ++a) PW(m, a) = Wt(j, a);
+            lm[m] = lam[j];
+            m += 1;
+        } else {
+            lm[group[j]] += lam[j];
+        }
+    }
+    // flat leaves: the facet's normal nearly annihilates T, or the facet's vertices spread over
+    // the body (a smooth piece's crowd together); x starts at their weighted mean
+    double un = std::sqrt(dot(u, u));
+    for (Int p = 0; p < m; ++p) {
+        for (Int i = 0; i < nn; ++i) {
+            const Int kind = ints[B.KIND + i];
+            if (kind != ELLIPSOID && kind != TRUNCATED_CONE) continue;
+            const Int w = ints[B.WSTART + i];
+            if (PW(p, w) == 0.0) continue;
+            const Int q = piece::flat_columns(ints, f, i, T, 0, C, C2);
+            if (q < 0) continue;
+            double tu = 0.0;
+            double tt = 0.0;
+            for (Int b = 0; b < q; ++b) {
+                double s = 0.0;
+                for (Int a = 0; a < n; ++a) {
+                    s += T(a, b) * u[a];
+                    tt += T(a, b) * T(a, b);
+                }
+                tu += s * s;
+            }
+            double wsum = 0.0;
+            for (Int b = 0; b < q; ++b) xbar[b] = 0.0;
+            for (Int j = 0; j < k; ++j) {
+                if (group[j] == p) {
+                    wsum += lam[j];
+                    for (Int b = 0; b < q; ++b) xbar[b] += lam[j] * Wt(j, w + 1 + b);
+                }
+            }
+            for (Int b = 0; b < q; ++b) xbar[b] = wsum > 0.0 ? xbar[b] / wsum : 0.0;
+            for (Int b = 0; b < q; ++b) PW(p, w + 1 + b) = xbar[b];
+            const double fr = FLAT_RHO * un;
+            if (tu <= fr * fr * tt || piece::flat_radius2(ints, f, i, PW.row(p)) < FLAT_SPREAD)
+                mark_flat(ints, f, PW, p, i, xbar);
+        }
+    }
+    Flats fl = flats(ints, f, PW, lm, m, T, y, fpiece, fleaf, foff, fq, C, C2);
+    double tau = t;
+    Int changes = 0;
+    bool converged = false;
+    while (steps < NEWTON_STEPS) {
+        if (m < 1 || m > n || fl.nf < 0 || n + m + fl.ny + 2 > N || changes > MAX_CHANGES)
+            return failed(t, INF, 0.0, steps, calls, nrmA, S, lmA, WS);
+        bool kinked = false;
+        for (Int p = 0; p < m; ++p) {
+            const double h = piece::piece_support(ints, f, u, PW.row(p), Sm.row(p), WSm.row(p),
+                                                  JJ.rows_range(p * n, (p + 1) * n), jw, nmax);
+            if (h != h) {
+                // a smooth leaf at its kink: its whole body is in the face, it turns flat
+                for (Int i = 0; i < nn; ++i) {
+                    if (ints[B.KIND + i] < HULL && WSm(p, ints[B.WSTART + i]) == piece::KINK) {
+                        for (Int b = 0; b < qmax; ++b) xbar[b] = 0.0;
+                        mark_flat(ints, f, PW, p, i, xbar);
+                    }
+                }
+                kinked = true;
+            }
+        }
+        if (kinked) {
+            fl = flats(ints, f, PW, lm, m, T, y, fpiece, fleaf, foff, fq, C, C2);
+            changes += 1;
+            continue;
+        }
+        if (converged) {
+            // a flat leaf in several pieces (a summand's body in more than one piece of the
+            // face): the point equation holds only sum_p lam_p x_p, which the basic solution
+            // splits freely (one copy just outside the body, another inside: W_Linf of two
+            // point contacts at the edge of their cones); each copy takes their weighted mean,
+            // and its piece's point is evaluated again
+            for (Int e = 0; e < fl.nf; ++e) {
+                const Int leaf = fleaf[e];
+                const Int w = ints[B.WSTART + leaf];
+                Int copies = 0;
+                double lsum = 0.0;
+                for (Int b = 0; b < fq[e]; ++b) xbar[b] = 0.0;
+                for (Int g = 0; g < fl.nf; ++g) {
+                    if (fleaf[g] != leaf) continue;
+                    copies += 1;
+                    lsum += lm[fpiece[g]];
+                    for (Int b = 0; b < fq[e]; ++b)
+                        xbar[b] += lm[fpiece[g]] * PW(fpiece[g], w + 1 + b);
+                }
+                if (copies < 2 || !(lsum > 0.0)) continue;
+                for (Int g = 0; g < fl.nf; ++g) {
+                    if (fleaf[g] != leaf) continue;
+                    for (Int b = 0; b < fq[e]; ++b) PW(fpiece[g], w + 1 + b) = xbar[b] / lsum;
+                    const Int p = fpiece[g];
+                    piece::piece_support(ints, f, u, PW.row(p), Sm.row(p), WSm.row(p),
+                                         JJ.rows_range(p * n, (p + 1) * n), jw, nmax);
+                }
+            }
+            // certify: flat points inside their bodies, weights on the ray, the full support
+            Int outside = -1;
+            for (Int e = 0; e < fl.nf; ++e)
+                if (piece::flat_radius2(ints, f, fleaf[e], PW.row(fpiece[e])) > 1.0 + 1e-12)
+                    outside = e;
+            if (outside >= 0) {
+                PW(fpiece[outside], ints[B.WSTART + fleaf[outside]]) = 1.0;
+                fl = flats(ints, f, PW, lm, m, T, y, fpiece, fleaf, foff, fq, C, C2);
+                changes += 1;
+                converged = false;
+                continue;
+            }
+            // a flat point outside its body by rounding (<= 1e-12) goes onto its boundary, so
+            // that the forces read off it lie in their cones to rounding (a soft finger's x 5e-14
+            // outside its unit ball was a force 5e-14 outside its cone); its piece's point is
+            // evaluated again, the others are as they were
+            for (Int e = 0; e < fl.nf; ++e) {
+                const Int p = fpiece[e];
+                const double rho2 = piece::flat_radius2(ints, f, fleaf[e], PW.row(p));
+                if (rho2 > 1.0) {
+                    const Int w = ints[B.WSTART + fleaf[e]];
+                    const double inv = 1.0 / std::sqrt(rho2);
+                    const Int q = piece::local_size(ints[B.KIND + fleaf[e]], f,
+                                                    ints[B.PSTART + fleaf[e]]);
+                    for (Int b = 0; b < q; ++b) PW(p, w + 1 + b) *= inv;
+                    piece::piece_support(ints, f, u, PW.row(p), Sm.row(p), WSm.row(p),
+                                         JJ.rows_range(p * n, (p + 1) * n), jw, nmax);
+                }
+            }
+            const double tz = weights_on_ray(Sm, m, r, lm, K, lu, dx, rhs);
+            if (tz <= 0.0 || smallest(lm, m) < -1e-12)
+                return failed(t, INF, 0.0, steps, calls, nrmA, S, lmA, WS);
+            for (Int i = 0; i < n; ++i) point[i] = tz * r[i];
+            if (!reproduce(Sm, lm, m, point))
+                return failed(t, INF, 0.0, steps, calls, nrmA, S, lmA, WS);
+            un = std::sqrt(dot(u, u));
+            if (!(dot(u, r) > 0.0)) return failed(t, INF, 0.0, steps, calls, nrmA, S, lmA, WS);
+            for (Int i = 0; i < n; ++i) nrm[i] = u[i] / un;
+            const double h_full = support(ints, f, nrm, point, wit);
+            calls += 1;
+            const double t_up = h_full / dot(nrm, r);
+            if (t_up - tz <= eps * tz && t_up >= tz * (1.0 - face_rounding(Sm, m, h_full)))
+                return {true, tz, std::max(t_up, tz), h_full, m, steps, calls, std::move(nrmA),
+                        std::move(S), std::move(lmA), std::move(WS)};
+            // a piece the system did not hold sticks out at u: it joins with weight 0
+            for (Int p = 0; p < m; ++p)
+                if (piece::same_piece(ints, wit, PW.row(p)))
+                    return failed(t, t_up, h_full, steps, calls, nrmA, S, lmA, WS);
+            if (m == n) return failed(t, t_up, h_full, steps, calls, nrmA, S, lmA, WS);
+            for (Int a = 0; a < ws; ++a) PW(m, a) = wit[a];
+            lm[m] = 0.0;
+            m += 1;
+            changes += 1;
+            converged = false;
+            continue;
+        }
+        if (!solve_kkt(r, u, t, tau, lm, Sm, JJ, m, T, y, fl.nf, fl.ny, fpiece, foff, fq, sm, K,
+                       lu, prow, pcol, rhs, dx, corner, mats, vecs))
+            return failed(t, INF, 0.0, steps, calls, nrmA, S, lmA, WS);
+        steps += 1;
+        double du = 0.0;
+        for (Int i = 0; i < n; ++i) {
+            u[i] += dx[i];
+            du = std::max(du, std::abs(dx[i]));
+        }
+        un = 0.0;
+        for (Int i = 0; i < n; ++i) un = std::max(un, std::abs(u[i]));
+        Int worst = -1;
+        for (Int p = 0; p < m; ++p) {
+            lm[p] += dx[n + p];
+            if (lm[p] <= 0.0 && (worst < 0 || lm[p] < lm[worst])) worst = p;
+        }
+        for (Int c = 0; c < fl.ny; ++c) y[c] += dx[n + m + c];
+        t += dx[n + m + fl.ny];
+        tau += dx[n + m + fl.ny + 1];
+        if (worst >= 0) {
+            // not a piece of the exit face: its weight would be negative (or is zero: the basic
+            // solution left it out) (S's rows shift along: every round evaluates them afresh)
+            m = drop_point(Sm, PW, lm, m, worst);
+            fl = flats(ints, f, PW, lm, m, T, y, fpiece, fleaf, foff, fq, C, C2);
+            changes += 1;
+            converged = false;
+            continue;
+        }
+        for (Int e = 0; e < fl.nf; ++e) {
+            const Int w = ints[B.WSTART + fleaf[e]];
+            for (Int b = 0; b < fq[e]; ++b)
+                PW(fpiece[e], w + 1 + b) = y[foff[e] + b] / lm[fpiece[e]];
+        }
+        converged = du <= STEP_TOL * un;
+    }
+    return failed(t, INF, 0.0, steps, calls, nrmA, S, lmA, WS);
+}
+
+}  // namespace gf

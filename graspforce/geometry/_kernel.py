@@ -1,0 +1,77 @@
+"""Support programs: the layout of a compiled convex set, read by the core's support kernel.
+
+A convex set compiles to a *support program*: a tree of nodes stored in pre-order (a parent before
+its children) in flat arrays. `support` (core/kernel.hpp) evaluates h_A(u) and s_A(u) of eq. (2) for any program in four
+passes: directions flow down the tree (an affine node maps u to M^T u), support values flow up (a hull keeps its best child, a sum adds), the leaves that produced the point are flagged in the
+witness vector, and the support point is built up from the flagged nodes only. Every algorithm is
+compiled once against this kernel, whatever the shape. Two program shapes take loops of their
+own instead of the passes (their `plan`): the soft fingers' wrench sets, shot at on every
+min_force call, and sums of posed 3-D bodies, growth distance's Delta.
+
+A program is two arrays, `ints` and `floats`, so that a call from Python unboxes two arrays, not
+twelve. `ints` = [nn, kind, dim, pstart, cstart, ccount, wstart, dstart, ostart, choice,
+active, children, plan] (each block nn long but `children` and the one entry `plan`);
+`floats` = [params, scratch]. The blocks:
+    kind[i]      node kind (constants below)
+    dim[i]       dimension of the node's output space
+    pstart[i]    offset of the node's parameters in `params`
+    cstart[i], ccount[i]   its children are children[cstart[i] : cstart[i] + ccount[i]]
+    wstart[i]    leaves: offset of its witness slot [active, local...] in the witness vector
+    dstart[i]    offset of its direction in `scratch`: its parent's, unless the parent is affine
+                 (an embedding's child: the last entries of its parent's)
+    ostart[i]    offset of its point and value in `scratch`
+    choice[i], active[i]   work arrays: a hull's best child (an origin embedding's child, or -1
+                 for its origin), whether node i produced the point
+    plan         how `support` evaluates the program (GENERAL, ELLIPSOID_HULL or POSED_SUM
+                 below, decided by `plan_of` when the set compiles)
+"""
+from .._core import (AFFINE, BOX, CONE_CAP, ELLIPSOID, ELLIPSOID_HULL, EMBED, GENERAL, HULL,
+                    ORIGIN_EMBED, POLYTOPE, POSED_SUM, SUM, TRUNCATED_CONE, support)
+
+__all__ = ["AFFINE", "BOX", "CONE_CAP", "ELLIPSOID", "ELLIPSOID_HULL", "EMBED", "GENERAL", "HULL",
+           "ORIGIN_EMBED", "POLYTOPE", "POSED_SUM", "SUM", "TRUNCATED_CONE", "BLOCKS",
+           "children", "param_start", "params_size", "plan_of", "support"]
+
+# the blocks of `ints` after nn, in order (core/codes.hpp's `blocks` gives their offsets)
+BLOCKS = ("kind", "dim", "pstart", "cstart", "ccount", "wstart", "dstart", "ostart", "choice",
+          "active", "children")
+
+
+def _block(ints, name, node=0):
+    return 1 + BLOCKS.index(name) * int(ints[0]) + node
+
+
+def param_start(ints, node):
+    """Offset of a node's parameters in `floats` (Python side, for callers that update them)."""
+    return int(ints[_block(ints, "pstart", node)])
+
+
+def params_size(ints):
+    """Entries of `floats` that hold parameters (Python side); the scratch the kernel writes
+    follows them."""
+    return int(ints[_block(ints, "dstart")])
+
+
+def plan_of(kind, dim, params, child_lists):
+    """The plan of a program (module docstring) from its nodes' kinds, dimensions, parameter
+    arrays and children (Python side, when the set compiles)."""
+    if kind[0] == SUM and dim[0] == 3:
+        for c in child_lists[0]:
+            leaf = child_lists[c][0] if kind[c] == AFFINE else c
+            if kind[c] != AFFINE or kind[leaf] >= HULL or dim[leaf] != 3:
+                return GENERAL
+        return POSED_SUM
+    if kind[0] != HULL:
+        return GENERAL
+    for c in child_lists[0]:
+        leaf = child_lists[c][0] if kind[c] in (EMBED, ORIGIN_EMBED) else c
+        # an ellipsoid's parameters start [n, k]
+        if kind[leaf] != ELLIPSOID or dim[leaf] != 6 or params[leaf][1] != 3:
+            return GENERAL
+    return ELLIPSOID_HULL
+
+
+def children(ints, node):
+    """The node indices of a node's children (Python side)."""
+    start = _block(ints, "children", ints[_block(ints, "cstart", node)])
+    return [int(c) for c in ints[start:start + ints[_block(ints, "ccount", node)]]]

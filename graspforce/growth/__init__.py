@@ -1,0 +1,1 @@
+"""Growth distance (section 4) between two posed convex sets (growth.py)."""
