@@ -119,16 +119,17 @@ def contact_kinds(contacts):
     return tuple((c.mu > 0.0) + (c.mu_spin > 0.0) for c in contacts)
 
 
-def wrench_span(kinds, contact_matrices):
+def wrench_span(kinds, contact_matrices, length):
     """Q^T (k, 6), Q an orthonormal basis of the range of the contacts' maps (the columns of G_i
     each contact's cone uses: f_1, the tangential forces with friction, the spin moment of a soft
-    finger), when its rank k is below 6; None otherwise. Only grasps of at most two contacts or
-    of fewer than six force components are examined (an SVD, ~10 us): a fresh grasp of more
-    contacts pays three counts, and is shot in R^6 even when deficient (three collinear point
-    contacts)."""
+    finger) in the units (force, torque / length), when its rank k is below 6; None otherwise.
+    Only grasps of at most two contacts or of fewer than six force components are examined (an
+    SVD, ~20-30 us): a fresh grasp of more contacts pays three counts, and is shot in R^6 even
+    when deficient (three collinear point contacts)."""
     if len(kinds) > 2 and kinds.count(0) + 3 * kinds.count(1) + 4 * kinds.count(2) >= 6:
         return None
-    M = np.hstack([G[:, :(1, 3, 4)[kind]] for G, kind in zip(contact_matrices, kinds)])
+    matrices = torques_over(contact_matrices, len(kinds), length)
+    M = np.hstack([G[:, :(1, 3, 4)[kind]] for G, kind in zip(matrices, kinds)])
     U, s, _ = np.linalg.svd(M)
     k = int(np.count_nonzero(s > RANK_TOL * s[0]))
     return U[:, :k].T.copy() if k < 6 else None
@@ -495,8 +496,7 @@ class WrenchSpace:
     def _span_of(self, kinds):
         span = self.__dict__.get("_span", _UNKNOWN)
         if span is _UNKNOWN:
-            matrices = torques_over(self._matrices, len(kinds), self.length)
-            span = self._span = wrench_span(kinds, matrices)
+            span = self._span = wrench_span(kinds, self._matrices, self.length)
         return span
 
     def _target(self, lifted, length, in_span=False):
