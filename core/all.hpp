@@ -21,3 +21,4 @@
 #include "warm.hpp"
 #include "growth.hpp"
 #include "entry.hpp"
+#include "contacts.hpp"

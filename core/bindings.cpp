@@ -190,6 +190,68 @@ NB_MODULE(_core, m) {
         "upper"_a.noconvert(), "iterations"_a.noconvert(), "threads"_a,
         "growth_query for every row of the poses on `threads` threads (0: all cores).");
 
+    m.def(
+        "contact",
+        [](nb::handle position, nb::handle normal, double mu, double mu_spin) -> nb::object {
+            double p[3], n[3], unit[3], entries[gf::contacts::ENTRIES];
+            if (!read_finite3(position.ptr(), p) || !read_finite3(normal.ptr(), n) ||
+                !gf::contacts::contact_entries(p, n, mu, mu_spin, numpy_dot3, unit, entries))
+                return nb::none();
+            return nb::make_tuple(numpy_copy(p, 3), numpy_copy(unit, 3),
+                                  numpy_copy(entries, gf::contacts::ENTRIES));
+        },
+        "position"_a, "normal"_a, "mu"_a, "mu_spin"_a,
+        "(position, unit normal, entries) of a contact with the default tangents "
+        "(graspforce.contact), or None: position or normal not a float64 array or list of 3 "
+        "finite floats, or a normal of length <= 1e-12.");
+
+    m.def(
+        "grasp_values",
+        [](nb::list entries) {
+            const npy_intp m = static_cast<npy_intp>(nb::len(entries));
+            constexpr gf::Int G = gf::contacts::G, X = gf::contacts::ENTRIES - G;
+            npy_intp size = m * gf::contacts::ENTRIES + 1;
+            PyObject* o = PyArray_SimpleNew(1, &size, NPY_FLOAT64);
+            if (o == nullptr) throw nb::python_error();
+            nb::object values = nb::steal(o);
+            double* v = static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(o)));
+            for (npy_intp i = 0; i < m; ++i) {
+                const In1 e = nb::cast<In1>(entries[i]);
+                if (e.rows != gf::contacts::ENTRIES)
+                    throw nb::value_error("grasp_values: a contact's entries have the wrong size");
+                std::memcpy(v + i * G, e.data, G * sizeof(double));
+                std::memcpy(v + m * G + i * X, e.data + G, X * sizeof(double));
+            }
+            v[size - 1] = 1.0;
+            return values;
+        },
+        "entries"_a,
+        "A grasp's values from its contacts' entries: the G_i (m x 24), then per contact (mu, "
+        "mu_s, mu_s / mu, (mu / mu_s)^2), then 1.0 (graspforce.wrench_space.grasp_values).");
+
+    m.def(
+        "template_arrays",
+        [](In1 values, InI1 ints, In1 floats, In1 reader, InI1 dst, InI1 src, InI1 scale, In1 add,
+           InI1 read_dst, InI1 read_src) {
+            nb::object new_ints = numpy_copy(ints.data, ints.rows);
+            nb::object new_floats = numpy_copy(floats.data, floats.rows);
+            nb::object new_reader = numpy_copy(reader.data, reader.rows);
+            auto data = [](const nb::object& a) {
+                return static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(
+                    a.ptr())));
+            };
+            gf::contacts::fill_template(vec(values), {data(new_floats), floats.rows}, ivec(dst),
+                                        ivec(src), ivec(scale), vec(add),
+                                        {data(new_reader), reader.rows}, ivec(read_dst),
+                                        ivec(read_src));
+            return nb::make_tuple(new_ints, new_floats, new_reader);
+        },
+        "values"_a.noconvert(), "ints"_a.noconvert(), "floats"_a.noconvert(),
+        "reader"_a.noconvert(), "dst"_a.noconvert(), "src"_a.noconvert(), "scale"_a.noconvert(),
+        "add"_a.noconvert(), "read_dst"_a.noconvert(), "read_src"_a.noconvert(),
+        "(ints, floats, reader): copies of a template's arrays with a grasp's values gathered "
+        "in (graspforce.wrench_space._Template).");
+
     m.def("capacity", &gf::capacity, "n"_a, "ws"_a,
           "Entries the arrays of a shot in R^n with witnesses of ws entries take when packed.");
     m.def("extra_size", &gf::forces::extra_size, "m"_a,

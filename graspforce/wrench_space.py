@@ -36,7 +36,8 @@ whose weights sum to 1/m.
 """
 import numpy as np
 
-from ._core import capacity, extra_size
+from ._core import capacity, extra_size, template_arrays
+from ._core import grasp_values as _core_grasp_values
 from ._forces import force_reader
 from ._kernel import children, param_start
 from .sets import ConeCap, Ellipsoid, Hull, MinkowskiSum, Polytope, affine, hull, minkowski_sum
@@ -195,22 +196,15 @@ class _ContactsSum(_ContactsRoot, MinkowskiSum):
 
 # a contact's entries in a grasp's values after the G_i (`grasp_values`)
 _MU, _MU_SPIN, _D_INV, _SPIN_WEIGHT, _PER_CONTACT = 0, 1, 2, 3, 4
+_G = 24           # ... and in a contact's entries after its G_i (Contact._g)
 
 
 def grasp_values(contacts):
     """One array of what a grasp's wrench sets are made of: the G_i (m x 24, row-major), then per
-    contact (mu, mu_s, mu_s / mu, (mu / mu_s)^2) (0 for the last two without spin), then 1.0. A
-    template (below) fills a program and its force reader from it by gathers."""
-    values = []
-    for c in contacts:
-        values += c._g
-    for c in contacts:
-        mu, mu_s = c.mu, c.mu_spin
-        # the same expressions as contact_set's D^{-1} and WrenchSpace's spin weight
-        values += (mu, mu_s, mu_s / mu if mu_s > 0.0 else 0.0,
-                   (mu / mu_s) ** 2 if mu_s > 0.0 else 0.0)
-    values.append(1.0)
-    return np.array(values)
+    contact (mu, mu_s, mu_s / mu, (mu / mu_s)^2) (0 for the last two without spin), then 1.0,
+    gathered from the entries each contact computed when it was made (Contact._g). A template
+    (below) fills a program and its force reader from it by gathers."""
+    return _core_grasp_values([c._g for c in contacts])
 
 
 class _Template:
@@ -291,16 +285,14 @@ class _Template:
     def target(self, contacts, values):
         """The Target of these contacts (of this template's structure), values their
         `grasp_values`."""
-        floats = self.floats.copy()
-        floats[self.dst] = values[self.src] * values[self.scale] + self.add
-        reader = self.reader.copy()
-        reader[self.read_dst] = values[self.read_src]
+        ints, floats, reader = template_arrays(values, self.ints, self.floats, self.reader,
+                                               self.dst, self.src, self.scale, self.add,
+                                               self.read_dst, self.read_src)
         magnitude, lifted, linf = self.made_of
         cls = _ContactsSum if linf and not lifted else _ContactsHull
         root = cls.__new__(cls)
         root.dim = self.dim
         root._made_of = (contacts, magnitude, lifted, linf)
-        ints = self.ints.copy()
         root._program = (ints, floats)
         root._witness_slots = self.slots
         root._witness_size = self.witness_size
@@ -342,8 +334,7 @@ class WrenchSpace:
     def spin_weight(self):
         """The weight of f_4^2 in ||f||^2 of eq. (15), per contact; point contacts have no
         f_4."""
-        return np.array([(c.mu / c.mu_spin) ** 2 if c.mu_spin > 0.0 else 0.0
-                         for c in self._contacts])
+        return np.array([c._g[_G + _SPIN_WEIGHT] for c in self._contacts])
 
     @property
     def set(self):
