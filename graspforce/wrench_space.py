@@ -356,7 +356,7 @@ class WrenchSpace:
         target = self._targets.get(lifted)
         if target is None:
             contacts = self._contacts
-            kinds = tuple((c.mu > 0.0) + (c.mu_spin > 0.0) for c in contacts)
+            kinds = tuple([(c.mu > 0.0) + (c.mu_spin > 0.0) for c in contacts])
             linf = self.norm == "Linf"
             key = (kinds, self.magnitude, lifted, linf)
             template = _TEMPLATES.get(key)
