@@ -22,3 +22,4 @@
 #include "growth.hpp"
 #include "entry.hpp"
 #include "contacts.hpp"
+#include "shapes.hpp"

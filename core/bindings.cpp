@@ -252,6 +252,36 @@ NB_MODULE(_core, m) {
         "(ints, floats, reader): copies of a template's arrays with a grasp's values gathered "
         "in (graspforce.wrench_space._Template).");
 
+    m.def(
+        "ellipsoid_origin",
+        [](In1 center, In2 shape) {
+            if (center.rows != 3 || shape.rows != 3 || shape.cols < 3)
+                throw nb::value_error("ellipsoid_origin: expected center (3,) and shape (3, k), "
+                                      "k >= 3");
+            return gf::shapes::ellipsoid_origin(center.data, shape.data, shape.cols);
+        },
+        "center"_a.noconvert(), "shape"_a.noconvert(),
+        "Whether {center + shape x : |x| <= 1} in R^3 holds the origin: shapes.INSIDE, OUTSIDE "
+        "or UNDECIDED (too close to the boundary or too thin to say in closed form).");
+
+    m.def(
+        "delta_arrays",
+        [](InI1 ints, In1 floats, gf::Int sa, In1 pa, gf::Int sb, In1 pb) {
+            if (sa < 0 || sb < 0 || sa + pa.rows > floats.rows || sb + pb.rows > floats.rows)
+                throw nb::value_error("delta_arrays: a parameter block outside the floats");
+            nb::object new_ints = numpy_copy(ints.data, ints.rows);
+            nb::object new_floats = numpy_copy(floats.data, floats.rows);
+            auto* f = static_cast<double*>(
+                PyArray_DATA(reinterpret_cast<PyArrayObject*>(new_floats.ptr())));
+            std::memcpy(f + sa, pa.data, pa.rows * sizeof(double));
+            std::memcpy(f + sb, pb.data, pb.rows * sizeof(double));
+            return nb::make_tuple(new_ints, new_floats);
+        },
+        "ints"_a.noconvert(), "floats"_a.noconvert(), "sa"_a, "pa"_a.noconvert(), "sb"_a,
+        "pb"_a.noconvert(),
+        "(ints, floats): copies of a Delta template's program with the two leaves' parameters "
+        "written at sa and sb (graspforce.growth).");
+
     m.def("capacity", &gf::capacity, "n"_a, "ws"_a,
           "Entries the arrays of a shot in R^n with witnesses of ws entries take when packed.");
     m.def("extra_size", &gf::forces::extra_size, "m"_a,
@@ -274,11 +304,15 @@ NB_MODULE(_core, m) {
     nb::module_ forces = m.def_submodule("forces", "The force reader's layout.");
     nb::module_ warm = m.def_submodule("warm", "The warm start's probe rounds.");
     nb::module_ batch = m.def_submodule("batch", "A batch row's statuses.");
+    nb::module_ shapes = m.def_submodule("shapes", "The closed-form origin verdicts' bounds.");
 #define GF_EXPORT_FROM(space, name) space.attr(#name) = gf::space::name
     GF_EXPORT_FROM(forces, READER_HEAD);
     GF_EXPORT_FROM(warm, WIDENINGS);
     GF_EXPORT_FROM(batch, OPTIMAL); GF_EXPORT_FROM(batch, INFEASIBLE);
     GF_EXPORT_FROM(batch, MAX_ITER); GF_EXPORT_FROM(batch, BAD_WRENCH);
+    GF_EXPORT_FROM(shapes, THIN); GF_EXPORT_FROM(shapes, CLEAR_INSIDE);
+    GF_EXPORT_FROM(shapes, CLEAR_OUTSIDE); GF_EXPORT_FROM(shapes, INSIDE);
+    GF_EXPORT_FROM(shapes, UNDECIDED);
     GF_EXPORT_FROM(growth, OK); GF_EXPORT_FROM(growth, BAD_POSE_A);
     GF_EXPORT_FROM(growth, BAD_POSE_B); GF_EXPORT_FROM(growth, COINCIDENT);
     GF_EXPORT_FROM(growth, SEPARATED); GF_EXPORT_FROM(growth, TOUCHING);
