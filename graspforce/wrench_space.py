@@ -207,6 +207,11 @@ def grasp_values(contacts):
     return _core_grasp_values([c._g for c in contacts])
 
 
+def contact_matrices(values, m):
+    """The G_i of m contacts from their `grasp_values`, (m, 6, 4): a view."""
+    return values[:24 * m].reshape(-1, 6, 4)
+
+
 class _Template:
     """A wrench space's compiled Target for one structure (the contacts' kinds, the magnitude,
     the root's shape): the program's ints, witness slots and the force reader's table do not
@@ -317,15 +322,14 @@ MAX_TEMPLATES = 256     # structures kept (a robot's contact sets, a service's g
 
 
 class WrenchSpace:
-    """W (eq. 14) for a list of contacts; contact_matrices: the contacts' G_i, (m, 6, 4).
-    `set` is W in R^6; `target(method)` the compiled set min_force shoots at with that method
-    (W, or W_Linf's lift for LIFTED_METHODS), built on first use."""
+    """W (eq. 14) for a list of contacts; values: their `grasp_values`. `set` is W in R^6;
+    `target(method)` the compiled set min_force shoots at with that method (W, or W_Linf's lift
+    for LIFTED_METHODS), built on first use."""
 
-    def __init__(self, contacts, norm, magnitude, contact_matrices, values=None):
+    def __init__(self, contacts, norm, magnitude, values):
         self.norm = norm
         self.magnitude = magnitude
         self._contacts = contacts
-        self._matrices = contact_matrices
         self._values = values
         self._targets = {}
         self._by_method = {}
@@ -361,11 +365,10 @@ class WrenchSpace:
             key = (kinds, self.magnitude, lifted, linf)
             template = _TEMPLATES.get(key)
             if template is not None:
-                if self._values is None:
-                    self._values = grasp_values(contacts)
                 target = template.target(contacts, self._values)
             else:
-                target = generic_target(contacts, self.norm, self.magnitude, self._matrices,
+                target = generic_target(contacts, self.norm, self.magnitude,
+                                        contact_matrices(self._values, len(contacts)),
                                         self.spin_weight, lifted)
                 if len(_TEMPLATES) >= MAX_TEMPLATES:
                     _TEMPLATES.pop(next(iter(_TEMPLATES)), None)
