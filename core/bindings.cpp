@@ -214,7 +214,7 @@ NB_MODULE(_core, m) {
             PyObject* o = PyArray_SimpleNew(1, &size, NPY_FLOAT64);
             if (o == nullptr) throw nb::python_error();
             nb::object values = nb::steal(o);
-            double* v = static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(o)));
+            double* v = float_data(o);
             for (npy_intp i = 0; i < m; ++i) {
                 const In1 e = nb::cast<In1>(entries[i]);
                 if (e.rows != gf::contacts::ENTRIES)
@@ -236,14 +236,10 @@ NB_MODULE(_core, m) {
             nb::object new_ints = numpy_copy(ints.data, ints.rows);
             nb::object new_floats = numpy_copy(floats.data, floats.rows);
             nb::object new_reader = numpy_copy(reader.data, reader.rows);
-            auto data = [](const nb::object& a) {
-                return static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(
-                    a.ptr())));
-            };
-            gf::contacts::fill_template(vec(values), {data(new_floats), floats.rows}, ivec(dst),
-                                        ivec(src), ivec(scale), vec(add),
-                                        {data(new_reader), reader.rows}, ivec(read_dst),
-                                        ivec(read_src));
+            gf::contacts::fill_template(vec(values), {float_data(new_floats.ptr()), floats.rows},
+                                        ivec(dst), ivec(src), ivec(scale), vec(add),
+                                        {float_data(new_reader.ptr()), reader.rows},
+                                        ivec(read_dst), ivec(read_src));
             return nb::make_tuple(new_ints, new_floats, new_reader);
         },
         "values"_a.noconvert(), "ints"_a.noconvert(), "floats"_a.noconvert(),
@@ -271,8 +267,7 @@ NB_MODULE(_core, m) {
                 throw nb::value_error("delta_arrays: a parameter block outside the floats");
             nb::object new_ints = numpy_copy(ints.data, ints.rows);
             nb::object new_floats = numpy_copy(floats.data, floats.rows);
-            auto* f = static_cast<double*>(
-                PyArray_DATA(reinterpret_cast<PyArrayObject*>(new_floats.ptr())));
+            double* f = float_data(new_floats.ptr());
             std::memcpy(f + sa, pa.data, pa.rows * sizeof(double));
             std::memcpy(f + sb, pb.data, pb.rows * sizeof(double));
             return nb::make_tuple(new_ints, new_floats);

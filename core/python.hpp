@@ -9,6 +9,7 @@
 
 #include <cstring>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -151,19 +152,19 @@ inline bool read_finite3(PyObject* o, double* v) {
     return 0.0 * v[0] + 0.0 * v[1] + 0.0 * v[2] == 0.0;
 }
 
-// a new float64 array of n entries, copied from data
-inline nb::object numpy_copy(const double* data, npy_intp n) {
-    PyObject* o = PyArray_SimpleNew(1, &n, NPY_FLOAT64);
-    if (o == nullptr) throw nb::python_error();
-    std::memcpy(PyArray_DATA(reinterpret_cast<PyArrayObject*>(o)), data, n * sizeof(double));
-    return nb::steal(o);
+// the entries of a float64 array made by numpy_copy or PyArray_SimpleNew
+inline double* float_data(PyObject* a) {
+    return static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a)));
 }
 
-inline nb::object numpy_copy(const std::int64_t* data, npy_intp n) {
-    PyObject* o = PyArray_SimpleNew(1, &n, NPY_INT64);
+// a new float64 or int64 array of n entries, copied from data
+template <class T>
+nb::object numpy_copy(const T* data, npy_intp n) {
+    static_assert(std::is_same_v<T, double> || std::is_same_v<T, std::int64_t>);
+    constexpr int type = std::is_same_v<T, double> ? NPY_FLOAT64 : NPY_INT64;
+    PyObject* o = PyArray_SimpleNew(1, &n, type);
     if (o == nullptr) throw nb::python_error();
-    std::memcpy(PyArray_DATA(reinterpret_cast<PyArrayObject*>(o)), data,
-                n * sizeof(std::int64_t));
+    std::memcpy(PyArray_DATA(reinterpret_cast<PyArrayObject*>(o)), data, n * sizeof(T));
     return nb::steal(o);
 }
 
