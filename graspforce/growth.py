@@ -122,7 +122,9 @@ class GrowthDistance:
             res = query(self._ints, self._floats, R_a, p_a, R_b, p_b, packed)
         except (TypeError, ValueError):
             res = None
-        if res is None or res[0] != OK:
+        # a pose the query refused (or could not take) is converted, checked and named here;
+        # coincident reference points are an answer (sigma 0)
+        if res is None or (res[0] != OK and res[0] != COINCIDENT):
             R_a, p_a = parse_pose(pose_a, "pose_a")
             R_b, p_b = parse_pose(pose_b, "pose_b")
             res = query(self._ints, self._floats, R_a, p_a, R_b, p_b, packed)
