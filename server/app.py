@@ -78,13 +78,14 @@ def _contact_key(c):
             *(() if c.tangents is None else (*c.tangents[0], *c.tangents[1])))
 
 
-def grasp_of(contacts):
-    """The gf.Grasp of these contact models, from this thread's cache when seen before, reset
-    so that its answer is the one a new grasp would give (Grasp.reset_start_tables)."""
+def grasp_of(contacts, length=None):
+    """The gf.Grasp of these contact models (and characteristic length), from this thread's
+    cache when seen before, reset so that its answer is the one a new grasp would give
+    (Grasp.reset_start_tables)."""
     cache = getattr(_local, "grasps", None)
     if cache is None:
         cache = _local.grasps = OrderedDict()
-    key = tuple(_contact_key(c) for c in contacts)
+    key = (length, *(_contact_key(c) for c in contacts))
     grasp = cache.get(key)
     if grasp is not None:
         cache.move_to_end(key)
@@ -92,7 +93,7 @@ def grasp_of(contacts):
         return grasp
     built = [_library(gf.Contact, c.position, c.normal, c.mu, c.mu_spin, c.tangents,
                       prefix=("contacts", i)) for i, c in enumerate(contacts)]
-    grasp = cache[key] = gf.Grasp(built)
+    grasp = cache[key] = _library(gf.Grasp, built, length)
     if len(cache) > GRASP_CACHE:
         cache.popitem(last=False)
     return grasp
@@ -110,7 +111,7 @@ def _json(content, status_code=200):
 
 # -- the solves, run on the pool ------------------------------------------------------------------
 def solve_force_optimization(body: M.ForceOptimizationIn):
-    grasp = grasp_of(body.contacts)
+    grasp = grasp_of(body.contacts, body.length)
     w = np.array(body.w_ext)
     start = time.perf_counter()
     res = grasp.min_force(w, norm=body.norm, magnitude=body.magnitude, method=body.method,
@@ -125,7 +126,7 @@ def solve_force_optimization(body: M.ForceOptimizationIn):
 
 
 def solve_batch(body: M.BatchIn):
-    grasp = grasp_of(body.contacts)
+    grasp = grasp_of(body.contacts, body.length)
     if body.wrenches is not None:
         W = np.array(body.wrenches)
     else:
@@ -144,7 +145,7 @@ def solve_batch(body: M.BatchIn):
 
 
 def solve_force_closure(body: M.ForceClosureIn):
-    grasp = grasp_of(body.contacts)
+    grasp = grasp_of(body.contacts, body.length)
     closure = grasp.is_force_closure(tol=body.tol)
     quality = None
     if body.quality:
@@ -162,8 +163,8 @@ def solve_ray_shoot(body: M.RayShootIn):
 def solve_growth_distance(body: M.GrowthDistanceIn):
     A = _library(set_from_dict, body.a.model_dump(), "a")
     B = _library(set_from_dict, body.b.model_dump(), "b")
-    # the class rather than gf.growth_distance: that function's cache of recent pairs is one
-    # dict for all threads, and these sets are this request's own anyway
+    # the class rather than gf.growth_distance, whose cache of recent pairs is for sets used
+    # again: these are this request's own
     solver = _library(gf.GrowthDistance, A, B, body.method, body.eps, body.max_iter,
                       body.touching_tol, False, rename={"A": "a", "B": "b"})
     pose_a = (np.array(body.pose_a.rotation), np.array(body.pose_a.translation))
