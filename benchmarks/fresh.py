@@ -18,7 +18,8 @@ Cases, each query timed on its own (perf_counter_ns, garbage collector off), med
   (no warm start) and the compiled `growth_query` alone.
 - (d) min_force (zc-ie, L1) on one reused grasp of (a), 1000 wrenches, after a pass that builds
   its start table; the compiled call alone with the grasp's own arguments (Grasp._call); the
-  fixed cost is the difference of the medians. The same for a reused GrowthDistance.
+  fixed cost is the difference of the medians. The same for a reused GrowthDistance, and for
+  queries whose compiled call returns at once (a zero wrench, coincident reference points).
 With --before, every query of (a)-(c) is also run by the other checkout (its Python package, with
 its own compiled core from its build folder, as benchmarks/ab.py loads it), alternately, on the
 same inputs.
@@ -160,6 +161,36 @@ def run_reused(n, rng):
     return whole, compiled
 
 
+def run_trivial(n, rng):
+    """{call: (whole ns, compiled ns)} of queries whose compiled call returns at once: min_force
+    of a zero wrench on a reused grasp, and growth distance at coincident reference points on a
+    reused GrowthDistance; the two alternate, whole and compiled in turns first."""
+    grasp = gf.Grasp([gf.Contact(p, n_, MU, MU_S) for p, n_ in finger_points(rng)])
+    zero = np.zeros(6)
+    grasp.min_force(zero)
+    _, code, shoot, args, A, size, _, _ = grasp._call("L1", "normal", "zc-ie")
+    table = start_table(A, 6)
+    axes, (rb, rt, h), pose_a, _ = shape_pair(rng)
+    solver = gf.GrowthDistance(gf.Ellipsoid(np.zeros(3), np.diag(axes)),
+                               gf.TruncatedCone(rb, rt, h), warm_start=False)
+    solver(pose_a, pose_a)
+    calls = {
+        "min_force of a zero wrench, reused grasp": (
+            lambda: grasp.min_force(zero),
+            lambda: shoot(zero, code, 1e-9, 10000, np.empty(size), table, *args)),
+        "growth distance at coincident reference points, reused GrowthDistance": (
+            lambda: solver(pose_a, pose_a),
+            lambda: _core.growth_query(solver._ints, solver._floats, *pose_a, *pose_a,
+                                       np.empty(solver._size)))}
+    out = {name: ([], []) for name in calls}
+    for i in range(n):
+        for name, (whole, compiled) in calls.items():
+            order = ((0, whole), (1, compiled)) if i % 2 else ((1, compiled), (0, whole))
+            for k, f in order:
+                out[name][k].append(timed(f))
+    return out
+
+
 def load_before(checkout):
     from benchmarks.ab import load
     return load(checkout, "gf_before")
@@ -186,6 +217,7 @@ def main():
     linf = run_fresh(args.n, rng, versions, "Linf")
     growth = run_growth(args.n, rng, versions)
     reused = run_reused(min(args.n, 1000), rng)
+    trivial = run_trivial(min(args.n, 1000), rng)
     gc.enable()
 
     lines = ["# A grasp or a pair of shapes made per query", "",
@@ -226,6 +258,9 @@ def main():
               f"{mc:.2f} | {pc:.2f} | {mw - mc:.2f} |",
               f"| growth distance, reused GrowthDistance | {mg:.2f} | | {mq:.2f} | | "
               f"{mg - mq:.2f} |"]
+    for name, (whole, compiled) in trivial.items():
+        (mw, pw), (mc, pc) = stats(whole), stats(compiled)
+        lines.append(f"| {name} | {mw:.2f} | {pw:.2f} | {mc:.2f} | {pc:.2f} | {mw - mc:.2f} |")
     text = "\n".join(lines) + "\n"
     print(text)
     Path(args.out).write_text(text)

@@ -10,7 +10,8 @@ started as `python -m graspforce serve` with one worker (the command the Dockerf
 - serve to ready: from starting the process to the first 200 on /readyz, median of --starts;
 - our POST /v1/force-optimization (4 soft fingers, the demo grasp, L1, zc-ie, eps 1e-9, the
   same body every request) by wrk from a second process: p50 and p99 at 1 connection (1
-  thread), requests/s at 32 connections (2 threads), errors (socket errors and non-2xx);
+  thread), requests/s at 32 connections (2 threads) and the server's CPU time a request there,
+  errors (socket errors and non-2xx);
 - beside it, in the same run, the bare framework: a FastAPI app that validates the same
   pydantic body (server.models.ForceOptimizationIn) and returns {"ok": true} without solving,
   on the same uvicorn settings;
@@ -83,6 +84,13 @@ def start(command, port):
             proc.kill()
             raise RuntimeError(f"{command} did not become ready")
         time.sleep(0.005)
+
+
+def cpu_seconds(pid):
+    """User + system CPU seconds of a process so far (/proc): a server's CPU a request depends
+    far less on other work sharing the machine than its rate does."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
 def stop(proc):
@@ -181,7 +189,9 @@ def main(argv=None):
             subprocess.run(["wrk", "-t1", "-c1", "-d1s", "-s", script.name, url],
                            capture_output=True, check=True)              # warm-up
             one = wrk(url, 1, 1, args.duration, script.name)
+            before = cpu_seconds(proc.pid)
             many = wrk(url, 32, 2, args.duration, script.name)
+            many["cpu_us"] = (cpu_seconds(proc.pid) - before) / many["requests"] * 1e6
             rows[name] = (one, many)
             if name == "graspforce":
                 batches = batch_times(port)
@@ -198,10 +208,11 @@ def main(argv=None):
              "iterations); the bare framework validates the same body and answers without "
              "solving.", "",
              "| server | p50 ms (1 conn) | p99 ms (1 conn) | requests/s (32 conn) | "
-             "p99 ms (32 conn) | errors |", "|---|---|---|---|---|---|"]
+             "p99 ms (32 conn) | server CPU us a request (32 conn) | errors |",
+             "|---|---|---|---|---|---|---|"]
     for name, (one, many) in rows.items():
         lines.append(f"| {name} | {one['p50_ms']:.2f} | {one['p99_ms']:.2f} | "
-                     f"{many['rps']:.0f} | {many['p99_ms']:.1f} | "
+                     f"{many['rps']:.0f} | {many['p99_ms']:.1f} | {many['cpu_us']:.0f} | "
                      f"{one['errors'] + many['errors']} of {one['requests'] + many['requests']}"
                      " |")
     lines += ["", "| batch of 10,000 wrenches | round trip ms (median of 5) | solve ms | "

@@ -21,3 +21,5 @@
 #include "shooting/entry.hpp"
 #include "grasping/forces.hpp"
 #include "growth/growth.hpp"
+#include "grasping/contacts.hpp"
+#include "growth/shapes.hpp"

@@ -120,18 +120,21 @@ def contact_from_dict(d, name="contact"):
 
 
 def grasp_to_dict(grasp):
-    """{"contacts": [contact, ...]}: a grasp's JSON form. The contacts keep their tangents, so
-    the rebuilt grasp has the same local force frames, hence the same forces."""
-    return {"contacts": [contact_to_dict(c) for c in grasp.contacts]}
+    """{"contacts": [contact, ...], "length": L}: a grasp's JSON form. The contacts keep their
+    tangents, so the rebuilt grasp has the same local force frames, hence the same forces; the
+    characteristic length (Grasp.length) the same units, hence the same answers."""
+    return {"contacts": [contact_to_dict(c) for c in grasp.contacts], "length": grasp.length}
 
 
 def grasp_from_dict(d):
-    """The gf.Grasp of {"contacts": [...]}."""
+    """The gf.Grasp of {"contacts": [...], "length": L}; without a length (or with null) the
+    grasp derives its own."""
     from .grasping.grasp import Grasp
     contacts = d.get("contacts") if isinstance(d, dict) else None
     if not isinstance(contacts, list) or not contacts:
         raise ValueError("contacts: required, a non-empty list of contacts")
-    return Grasp(contact_from_dict(c, f"contacts[{i}]") for i, c in enumerate(contacts))
+    return Grasp((contact_from_dict(c, f"contacts[{i}]") for i, c in enumerate(contacts)),
+                 length=d.get("length"))
 
 
 def pose_to_dict(pose, name="pose"):

@@ -30,6 +30,9 @@ Norm = Literal["L1", "Linf"]
 Magnitude = Literal["normal", "full"]
 Eps = Annotated[float, Field(ge=1e-15, le=0.1, description="relative tolerance, in [1e-15, 0.1]")]
 MaxIter = Annotated[int, Field(ge=1, le=100000)]
+Length = Annotated[float, Field(gt=0.0, le=COORD, description=(
+    "the grasp's characteristic length L (graspforce.Grasp): min_force works in the units "
+    "(force, torque / L); when absent, derived from the contacts"))]
 
 
 class Model(BaseModel):
@@ -202,6 +205,7 @@ class ForceOptimizationIn(Model):
         "contacts": EXAMPLE_CONTACTS, "w_ext": [0, 0, -9.81, 0, 0, 0], "norm": "L1",
         "magnitude": "normal", "method": "zc-ie", "eps": 1e-9}]})
     contacts: Contacts
+    length: Length | None = None
     w_ext: Wrench
     norm: Norm = "L1"
     magnitude: Magnitude = "normal"
@@ -231,6 +235,7 @@ class BatchIn(Model):
                                                  "mean": [0, 0, -9.81, 0, 0, 0]},
         "forces": False}]})
     contacts: Contacts
+    length: Length | None = None
     wrenches: Annotated[list[Wrench], Field(min_length=1)] | None = None
     sample: SampleIn | None = None
     norm: Norm = "L1"
@@ -268,6 +273,7 @@ class ForceClosureIn(Model):
     model_config = ConfigDict(json_schema_extra={"examples": [{
         "contacts": EXAMPLE_CONTACTS, "quality": True, "eps": 1e-2}]})
     contacts: Contacts
+    length: Length | None = None
     quality: bool = True
     norm: Norm = "L1"
     magnitude: Magnitude = "normal"

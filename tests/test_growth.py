@@ -389,6 +389,16 @@ def test_coincident_reference_points():
     assert np.array_equal(res.point_a, np.ones(3)) and not res.normal.any()
 
 
+def test_coincident_reference_points_still_check_the_rotations():
+    A, B = gf.Ball(np.zeros(3), 1.0), gf.Box([1.0, 2.0, 3.0])
+    solver = gf.GrowthDistance(A, B)
+    reflection = np.diag([1.0, 1.0, -1.0])
+    with pytest.raises(ValueError, match="pose_a: the rotation must be proper"):
+        solver((reflection, np.ones(3)), (np.eye(3), np.ones(3)))
+    with pytest.raises(ValueError, match="pose_b: the rotation must be proper"):
+        solver((np.eye(3), np.ones(3)), (2.0 * np.eye(3), np.ones(3)))
+
+
 def test_identical_shapes():
     A = gf.TruncatedCone(0.5, 0.2, 1.0)
     R = random_rotation(np.random.default_rng(8))

@@ -77,6 +77,21 @@ def test_min_force_agrees(client, norm, magnitude, method):
             assert_close(remote.to_dict(), local.to_dict())
 
 
+def test_a_given_length_travels_with_the_grasp(client):
+    """A grasp's characteristic length (gf.Grasp(contacts, length=...)) is part of its JSON
+    form: the service answers in the same units, hence with the same record, for a length the
+    grasp would not derive itself as for its own."""
+    contacts = three_fingers().contacts
+    for length in (1.0, 0.01, None):
+        grasp = gf.Grasp(contacts, length=length)
+        for w in WRENCHES[:2]:
+            for norm in ("L1", "Linf"):
+                local = grasp.min_force(w, norm=norm, eps=1e-10)
+                remote = client.min_force(grasp, w, norm=norm, eps=1e-10)
+                assert_close(remote.to_dict(), local.to_dict())
+                grasp.reset_start_tables()
+
+
 def test_infeasible_is_a_200_with_null_sigma(client, served):
     grasp = gf.Grasp([gf.Contact([0.05, 0, 0], [-1, 0, 0], 0.5)])     # can only push along -x
     w = np.array([-1.0, 0, 0, 0, 0, 0])                                # needs a pull
@@ -285,6 +300,11 @@ MALFORMED = [
      "valid number"),
     ("wrench not a list", FORCE, {**FO, "w_ext": "down"}, 422, ("w_ext",), "valid"),
     ("empty contacts", FORCE, {**FO, "contacts": []}, 422, ("contacts",), "at least 1"),
+    ("zero length", FORCE, {**FO, "length": 0.0}, 422, ("length",), "greater than 0"),
+    ("negative length", BATCH, {"contacts": EX, "wrenches": [FO["w_ext"]], "length": -1.0}, 422,
+     ("length",), "greater than 0"),
+    ("length as a string", CLOSURE, {"contacts": EX, "length": "1 m"}, 422, ("length",),
+     "valid number"),
     ("missing contacts", FORCE, {"w_ext": FO["w_ext"]}, 422, ("contacts",), "Field required"),
     ("negative friction", FORCE, {**FO, "contacts": contact(mu=-0.1)}, 422,
      ("contacts", 0, "mu"), "greater than or equal to 0"),

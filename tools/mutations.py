@@ -53,8 +53,8 @@ MUTATIONS = [
      "packed[4 * m:10 * m].reshape(m, 6),",
      ["tests/test_grasp_forces.py", "tests/test_batch.py"]),
     ("growth's closed-form origin test too generous", "graspforce/growth/growth.py",
-     "if q <= CLEAR_INSIDE ** 2:",
-     "if q <= CLEAR_OUTSIDE ** 2:",
+     "return None if verdict == UNDECIDED else verdict == INSIDE",
+     "return verdict == INSIDE or verdict == UNDECIDED",
      ["tests/test_growth.py", "tests/test_scale.py"]),
 ]
 

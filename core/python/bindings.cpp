@@ -191,6 +191,93 @@ NB_MODULE(_core, m) {
         "upper"_a.noconvert(), "iterations"_a.noconvert(), "threads"_a,
         "growth_query for every row of the poses on `threads` threads (0: all cores).");
 
+    m.def(
+        "contact",
+        [](nb::handle position, nb::handle normal, double mu, double mu_spin) -> nb::object {
+            double p[3], n[3], unit[3], entries[gf::contacts::ENTRIES];
+            if (!read_finite3(position.ptr(), p) || !read_finite3(normal.ptr(), n) ||
+                !gf::contacts::contact_entries(p, n, mu, mu_spin, numpy_dot3, unit, entries))
+                return nb::none();
+            return nb::make_tuple(numpy_copy(p, 3), numpy_copy(unit, 3),
+                                  numpy_copy(entries, gf::contacts::ENTRIES));
+        },
+        "position"_a, "normal"_a, "mu"_a, "mu_spin"_a,
+        "(position, unit normal, entries) of a contact with the default tangents "
+        "(graspforce.contact), or None: position or normal not a float64 array or list of 3 "
+        "finite floats, or a normal of length <= 1e-12.");
+
+    m.def(
+        "grasp_values",
+        [](nb::list entries) {
+            const npy_intp m = static_cast<npy_intp>(nb::len(entries));
+            constexpr gf::Int G = gf::contacts::G, X = gf::contacts::ENTRIES - G;
+            npy_intp size = m * gf::contacts::ENTRIES + 1;
+            PyObject* o = PyArray_SimpleNew(1, &size, NPY_FLOAT64);
+            if (o == nullptr) throw nb::python_error();
+            nb::object values = nb::steal(o);
+            double* v = float_data(o);
+            for (npy_intp i = 0; i < m; ++i) {
+                const In1 e = nb::cast<In1>(entries[i]);
+                if (e.rows != gf::contacts::ENTRIES)
+                    throw nb::value_error("grasp_values: a contact's entries have the wrong size");
+                std::memcpy(v + i * G, e.data, G * sizeof(double));
+                std::memcpy(v + m * G + i * X, e.data + G, X * sizeof(double));
+            }
+            v[size - 1] = 1.0;
+            return values;
+        },
+        "entries"_a,
+        "A grasp's values from its contacts' entries: the G_i (m x 24), then per contact (mu, "
+        "mu_s, mu_s / mu, (mu / mu_s)^2), then 1.0 (graspforce.wrench_space.grasp_values).");
+
+    m.def(
+        "template_arrays",
+        [](In1 values, InI1 ints, In1 floats, In1 reader, InI1 dst, InI1 src, InI1 scale, In1 add,
+           InI1 read_dst, InI1 read_src) {
+            nb::object new_ints = numpy_copy(ints.data, ints.rows);
+            nb::object new_floats = numpy_copy(floats.data, floats.rows);
+            nb::object new_reader = numpy_copy(reader.data, reader.rows);
+            gf::contacts::fill_template(vec(values), {float_data(new_floats.ptr()), floats.rows},
+                                        ivec(dst), ivec(src), ivec(scale), vec(add),
+                                        {float_data(new_reader.ptr()), reader.rows},
+                                        ivec(read_dst), ivec(read_src));
+            return nb::make_tuple(new_ints, new_floats, new_reader);
+        },
+        "values"_a.noconvert(), "ints"_a.noconvert(), "floats"_a.noconvert(),
+        "reader"_a.noconvert(), "dst"_a.noconvert(), "src"_a.noconvert(), "scale"_a.noconvert(),
+        "add"_a.noconvert(), "read_dst"_a.noconvert(), "read_src"_a.noconvert(),
+        "(ints, floats, reader): copies of a template's arrays with a grasp's values gathered "
+        "in (graspforce.wrench_space._Template).");
+
+    m.def(
+        "ellipsoid_origin",
+        [](In1 center, In2 shape) {
+            if (center.rows != 3 || shape.rows != 3 || shape.cols < 3)
+                throw nb::value_error("ellipsoid_origin: expected center (3,) and shape (3, k), "
+                                      "k >= 3");
+            return gf::shapes::ellipsoid_origin(center.data, shape.data, shape.cols);
+        },
+        "center"_a.noconvert(), "shape"_a.noconvert(),
+        "Whether {center + shape x : |x| <= 1} in R^3 holds the origin: shapes.INSIDE, OUTSIDE "
+        "or UNDECIDED (too close to the boundary or too thin to say in closed form).");
+
+    m.def(
+        "delta_arrays",
+        [](InI1 ints, In1 floats, gf::Int sa, In1 pa, gf::Int sb, In1 pb) {
+            if (sa < 0 || sb < 0 || sa + pa.rows > floats.rows || sb + pb.rows > floats.rows)
+                throw nb::value_error("delta_arrays: a parameter block outside the floats");
+            nb::object new_ints = numpy_copy(ints.data, ints.rows);
+            nb::object new_floats = numpy_copy(floats.data, floats.rows);
+            double* f = float_data(new_floats.ptr());
+            std::memcpy(f + sa, pa.data, pa.rows * sizeof(double));
+            std::memcpy(f + sb, pb.data, pb.rows * sizeof(double));
+            return nb::make_tuple(new_ints, new_floats);
+        },
+        "ints"_a.noconvert(), "floats"_a.noconvert(), "sa"_a, "pa"_a.noconvert(), "sb"_a,
+        "pb"_a.noconvert(),
+        "(ints, floats): copies of a Delta template's program with the two leaves' parameters "
+        "written at sa and sb (graspforce.growth).");
+
     m.def("capacity", &gf::capacity, "n"_a, "ws"_a,
           "Entries the arrays of a shot in R^n with witnesses of ws entries take when packed.");
     m.def("extra_size", &gf::forces::extra_size, "m"_a,
@@ -213,12 +300,16 @@ NB_MODULE(_core, m) {
     nb::module_ forces = m.def_submodule("forces", "The force reader's layout.");
     nb::module_ warm = m.def_submodule("warm", "The warm start's probe rounds.");
     nb::module_ batch = m.def_submodule("batch", "A batch row's statuses.");
+    nb::module_ shapes = m.def_submodule("shapes", "The closed-form origin verdicts' bounds.");
 #define GF_EXPORT_FROM(space, name) space.attr(#name) = gf::space::name
     GF_EXPORT_FROM(forces, READER_HEAD); GF_EXPORT_FROM(forces, LENGTH);
     GF_EXPORT_FROM(warm, WIDENINGS);
     GF_EXPORT_FROM(batch, OPTIMAL); GF_EXPORT_FROM(batch, INFEASIBLE);
     GF_EXPORT_FROM(batch, MAX_ITER); GF_EXPORT_FROM(batch, BAD_WRENCH);
     GF_EXPORT_FROM(batch, FULL_SET);
+    GF_EXPORT_FROM(shapes, THIN); GF_EXPORT_FROM(shapes, CLEAR_INSIDE);
+    GF_EXPORT_FROM(shapes, CLEAR_OUTSIDE); GF_EXPORT_FROM(shapes, INSIDE);
+    GF_EXPORT_FROM(shapes, UNDECIDED);
     GF_EXPORT_FROM(growth, OK); GF_EXPORT_FROM(growth, BAD_POSE_A);
     GF_EXPORT_FROM(growth, BAD_POSE_B); GF_EXPORT_FROM(growth, COINCIDENT);
     GF_EXPORT_FROM(growth, SEPARATED); GF_EXPORT_FROM(growth, TOUCHING);

@@ -9,6 +9,7 @@
 
 #include <cstring>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -109,6 +110,62 @@ inline nb::tuple shot_tuple(gf::Shot&& s) {
     return nb::make_tuple(s.status, s.t, s.t_up, s.h_n, s.iters, s.calls,
                           numpy(s.normal), numpy(s.V),
                           numpy(s.lam), numpy(s.W), s.singular);
+}
+
+}  // namespace gf_python
+
+namespace gf_python {
+
+// x.x by NumPy's own dot product of float64 (BLAS's, as `ndarray.dot` and np.linalg.norm take
+// it): a contact's norms must round as they did when numpy computed them
+inline double numpy_dot3(const double* x) {
+    static PyArray_DotFunc* const dot =
+        PyDataType_GetArrFuncs(PyArray_DescrFromType(NPY_FLOAT64))->dotfunc;
+    double out = 0.0;
+    char* p = reinterpret_cast<char*>(const_cast<double*>(x));
+    dot(p, sizeof(double), p, sizeof(double), reinterpret_cast<char*>(&out), 3, nullptr);
+    return out;
+}
+
+// three finite floats from a float64 array of 3 entries or a list or tuple of 3 Python floats
+// into v; false for anything else (which the Python layer converts or refuses)
+inline bool read_finite3(PyObject* o, double* v) {
+    if (PyArray_Check(o)) {
+        auto* a = reinterpret_cast<PyArrayObject*>(o);
+        if (PyArray_TYPE(a) != NPY_FLOAT64 || PyArray_NDIM(a) != 1 || PyArray_DIM(a, 0) != 3 ||
+            !PyArray_ISALIGNED(a) || !PyArray_ISNOTSWAPPED(a))
+            return false;
+        const char* d = static_cast<const char*>(PyArray_DATA(a));
+        const npy_intp s = PyArray_STRIDE(a, 0);
+        for (int i = 0; i < 3; ++i) std::memcpy(v + i, d + i * s, sizeof(double));
+    } else if (PyList_CheckExact(o) || PyTuple_CheckExact(o)) {
+        if (PySequence_Fast_GET_SIZE(o) != 3) return false;
+        PyObject** items = PySequence_Fast_ITEMS(o);
+        for (int i = 0; i < 3; ++i) {
+            if (!PyFloat_CheckExact(items[i])) return false;
+            v[i] = PyFloat_AS_DOUBLE(items[i]);
+        }
+    } else {
+        return false;
+    }
+    // finite iff 0 x + 0 y + 0 z is 0 (0 inf is NaN), graspforce._validate.finite_vector3's test
+    return 0.0 * v[0] + 0.0 * v[1] + 0.0 * v[2] == 0.0;
+}
+
+// the entries of a float64 array made by numpy_copy or PyArray_SimpleNew
+inline double* float_data(PyObject* a) {
+    return static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a)));
+}
+
+// a new float64 or int64 array of n entries, copied from data
+template <class T>
+nb::object numpy_copy(const T* data, npy_intp n) {
+    static_assert(std::is_same_v<T, double> || std::is_same_v<T, std::int64_t>);
+    constexpr int type = std::is_same_v<T, double> ? NPY_FLOAT64 : NPY_INT64;
+    PyObject* o = PyArray_SimpleNew(1, &n, type);
+    if (o == nullptr) throw nb::python_error();
+    std::memcpy(PyArray_DATA(reinterpret_cast<PyArrayObject*>(o)), data, n * sizeof(T));
+    return nb::steal(o);
 }
 
 }  // namespace gf_python

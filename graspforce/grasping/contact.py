@@ -3,6 +3,7 @@ import math
 
 import numpy as np
 
+from .._core import contact
 from .._validate import finite_array, finite_scalar, finite_vector3
 
 
@@ -20,44 +21,50 @@ class Contact:
         sqrt((f_2^2 + f_3^2) / mu^2 + f_4^2 / mu_spin^2) <= f_1,
     with f_2 = f_3 = 0 when mu = 0 and f_4 = 0 when mu_spin = 0.
 
-    A contact is fixed once made: its frame and G_i are computed once, when it is made, in plain
-    arithmetic (a grasp built per query pays for them once, not at every use).
+    A contact is fixed once made: its frame and G_i are computed once, when it is made, by one
+    compiled call (core/grasping/contacts.hpp; a grasp built per query pays for them once, not at every
+    use).
     """
 
     def __init__(self, position, normal, mu, mu_spin=0.0, tangents=None):
-        self.position = position = finite_vector3(position, "position")
+        made = None
+        # the common contact (float mu and mu_spin in range, default tangents, float64 arrays
+        # or lists of floats) is checked and computed by one compiled call
+        if (tangents is None and type(mu) is float and type(mu_spin) is float
+                and 0.0 <= mu < math.inf and 0.0 <= mu_spin < math.inf
+                and not (mu == 0.0 and mu_spin > 0.0)):
+            made = contact(position, normal, mu, mu_spin)
+        if made is None:
+            position, normal, mu, mu_spin, tangents = self._checked(position, normal, mu,
+                                                                    mu_spin, tangents)
+            made = contact(position, normal, mu, mu_spin) if tangents is None else \
+                _with_tangents(position, normal, mu, mu_spin, tangents)
+        self.mu = mu
+        self.mu_spin = mu_spin
+        # position, unit normal and the entries a grasp's values are made of
+        # (graspforce.wrench_space.grasp_values): G_i (6 x 4, row-major), mu, mu_s, mu_s / mu,
+        # (mu / mu_s)^2
+        self.position, self.normal, self._g = made
+
+    @staticmethod
+    def _checked(position, normal, mu, mu_spin, tangents):
+        """The arguments checked one by one (each rule named) and converted: position and
+        normal float64 arrays, mu and mu_spin floats, tangents None or (o, t) arrays."""
+        position = finite_vector3(position, "position")
         n = finite_vector3(normal, "normal")
         # sqrt(n.n) is np.linalg.norm(n) bit for bit: both take the dot product from BLAS,
         # whose rounding (fused or not) a sum written in Python would not reproduce
         length = math.sqrt(n.dot(n))
         if not length > 1e-12:
             raise ValueError("normal: must be a nonzero vector")
-        nx, ny, nz = n.tolist()
-        nx, ny, nz = nx / length, ny / length, nz / length
-        self.normal = np.array((nx, ny, nz))
-        if type(mu) is not float or not 0.0 <= mu < math.inf:
-            mu = finite_scalar(mu, "mu", minimum=0.0)
-        if type(mu_spin) is not float or not 0.0 <= mu_spin < math.inf:
-            mu_spin = finite_scalar(mu_spin, "mu_spin", minimum=0.0)
-        self.mu = mu
-        self.mu_spin = mu_spin
+        mu = finite_scalar(mu, "mu", minimum=0.0)
+        mu_spin = finite_scalar(mu_spin, "mu_spin", minimum=0.0)
         if mu == 0.0 and mu_spin > 0.0:
             raise ValueError("mu_spin: must be 0 when mu is 0 (a frictionless contact has no "
                              "torsional friction)")
-        if tangents is None:
-            (ox, oy, oz), (tx, ty, tz) = _default_tangents(nx, ny, nz)
-        else:
-            o, t = _check_tangents(tangents, self.normal)
-            (ox, oy, oz), (tx, ty, tz) = o.tolist(), t.tolist()
-        px, py, pz = position.tolist()
-        # G_i row by row (eq. 11): [n, o, t, 0] over [p x n, p x o, p x t, n], each cross product
-        # written as np.cross computes it
-        self._g = (nx, ox, tx, 0.0,
-                   ny, oy, ty, 0.0,
-                   nz, oz, tz, 0.0,
-                   py * nz - pz * ny, py * oz - pz * oy, py * tz - pz * ty, nx,
-                   pz * nx - px * nz, pz * ox - px * oz, pz * tx - px * tz, ny,
-                   px * ny - py * nx, px * oy - py * ox, px * ty - py * tx, nz)
+        if tangents is not None:
+            tangents = _check_tangents(tangents, n / length)
+        return position, n, mu, mu_spin, tangents
 
     @property
     def tangents(self):
@@ -65,7 +72,7 @@ class Contact:
         tangents = self.__dict__.get("_tangents")
         if tangents is None:
             g = self._g
-            tangents = self._tangents = (np.array(g[1:12:4]), np.array(g[2:12:4]))
+            tangents = self._tangents = (g[1:12:4].copy(), g[2:12:4].copy())
         return tangents
 
     @property
@@ -78,13 +85,13 @@ class Contact:
     @property
     def frame(self):
         """R_i = [n, o, t] (columns): local force (f_1, f_2, f_3) to world force."""
-        return np.array(self._g[:12]).reshape(3, 4)[:, :3].copy()
+        return self._g[:12].reshape(3, 4)[:, :3].copy()
 
     @property
     def matrix(self):
         """G_i of eq. (11), (6, 4): [[n, o, t, 0], [p x n, p x o, p x t, n]]. It maps f_i to the
         wrench (force, torque about the frame's origin) the contact applies to the object."""
-        return np.array(self._g).reshape(6, 4)
+        return self._g[:24].reshape(6, 4).copy()
 
     def contains(self, force, tol=1e-9):
         """Whether the local force (f_1, f_2, f_3, f_4) lies in F_i of eq. (12), to `tol` relative
@@ -105,21 +112,28 @@ class Contact:
                 f"mu={self.mu}, mu_spin={self.mu_spin})")
 
 
-def _default_tangents(nx, ny, nz):
-    """((o), (t)) of a unit normal, as floats, by the arithmetic np.argmin, np.linalg.norm and
-    np.cross would do."""
-    # the world axis least aligned with n gives a well-conditioned o; then t = n x o makes
-    # (n, o, t) right-handed, i.e. n = o x t as eq. (11) requires. o = e_k - (e_k . n) n, whose
-    # dot product is n_k exactly; ties go to the first axis, as np.argmin's do
-    ax, ay, az = abs(nx), abs(ny), abs(nz)
-    k = 0 if ax <= ay and ax <= az else (1 if ay <= az else 2)
-    c = (nx, ny, nz)[k]
-    o = [0.0 - c * nx, 0.0 - c * ny, 0.0 - c * nz]
-    o[k] = 1.0 - c * (nx, ny, nz)[k]
-    oa = np.array(o)
-    length = math.sqrt(oa.dot(oa))           # np.linalg.norm(o), as for the normal
-    ox, oy, oz = o[0] / length, o[1] / length, o[2] / length
-    return (ox, oy, oz), (ny * oz - nz * oy, nz * ox - nx * oz, nx * oy - ny * ox)
+def _with_tangents(position, n, mu, mu_spin, tangents):
+    """(position, unit normal, entries) of Contact._g for a contact with its own tangents
+    (o, t): the arithmetic of core/grasping/contacts.hpp with o given."""
+    length = math.sqrt(n.dot(n))
+    nx, ny, nz = n.tolist()
+    nx, ny, nz = nx / length, ny / length, nz / length
+    (ox, oy, oz), (tx, ty, tz) = tangents[0].tolist(), tangents[1].tolist()
+    px, py, pz = position.tolist()
+    d_inv, spin_weight = 0.0, 0.0
+    if mu_spin > 0.0:
+        ratio = mu / mu_spin
+        d_inv, spin_weight = mu_spin / mu, ratio * ratio
+    # G_i row by row (eq. 11): [n, o, t, 0] over [p x n, p x o, p x t, n], each cross product
+    # written as np.cross computes it
+    return position, np.array((nx, ny, nz)), np.array((
+        nx, ox, tx, 0.0,
+        ny, oy, ty, 0.0,
+        nz, oz, tz, 0.0,
+        py * nz - pz * ny, py * oz - pz * oy, py * tz - pz * ty, nx,
+        pz * nx - px * nz, pz * ox - px * oz, pz * tx - px * tz, ny,
+        px * ny - py * nx, px * oy - py * ox, px * ty - py * tx, nz,
+        mu, mu_spin, d_inv, spin_weight))
 
 
 def _check_tangents(tangents, n):

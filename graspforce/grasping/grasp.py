@@ -10,7 +10,8 @@ from .contact import Contact
 from .quality import facet_expansion, grasp_quality
 from ..shooting.ray_shoot import METHODS, check_tolerances
 from ..records.results import MinForce, MinForceBatch
-from .wrench_space import MAGNITUDES, NORMS, WrenchSpace, contact_set, grasp_values
+from .wrench_space import (MAGNITUDES, NORMS, WrenchSpace, contact_matrices, contact_set,
+                           grasp_values)
 
 
 class Grasp:
@@ -42,7 +43,6 @@ class Grasp:
         # what the wrench sets are made of, G_i first (graspforce.wrench_space.grasp_values):
         # one array for all, from the entries each contact computed when it was made
         self._values = grasp_values(contacts)
-        self.contact_matrices = self._values[:24 * len(contacts)].reshape(-1, 6, 4)   # G_i
         self._spaces = {}
         self._calls = {}
 
@@ -69,6 +69,11 @@ class Grasp:
         return self._length
 
     @property
+    def contact_matrices(self):
+        """The G_i stacked, (m, 6, 4): a view of the grasp's values."""
+        return contact_matrices(self._values, len(self.contacts))
+
+    @property
     def matrix(self):
         """[G_1 ... G_m] of eq. (11), (6, 4m): maps the stacked local forces to the resultant."""
         return np.hstack(self.contact_matrices)
@@ -86,8 +91,7 @@ class Grasp:
         key = (check_choice(norm, NORMS, "norm"), check_choice(magnitude, MAGNITUDES, "magnitude"))
         space = self._spaces.get(key)
         if space is None:
-            space = self._spaces[key] = WrenchSpace(self.contacts, norm, magnitude,
-                                                    self.contact_matrices, self._values,
+            space = self._spaces[key] = WrenchSpace(self.contacts, norm, magnitude, self._values,
                                                     self.length)
             space.shoot = shoot_and_read_forces
         return space

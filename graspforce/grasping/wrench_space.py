@@ -44,7 +44,8 @@ shot at the full-dimensional set instead.
 """
 import numpy as np
 
-from .._core import capacity, extra_size
+from .._core import capacity, extra_size, template_arrays
+from .._core import grasp_values as _core_grasp_values
 from ..records._forces import LENGTH, READER_HEAD, force_reader
 from ..geometry._kernel import children, param_start
 from ..geometry.sets import (Affine, ConeCap, Ellipsoid, Hull, MinkowskiSum, Polytope, affine,
@@ -116,10 +117,10 @@ _UNKNOWN = object()        # a wrench space's span before it is first needed
 
 def contact_kinds(contacts):
     """Per contact 0 frictionless, 1 point, 2 soft."""
-    return tuple((c.mu > 0.0) + (c.mu_spin > 0.0) for c in contacts)
+    return tuple([(c.mu > 0.0) + (c.mu_spin > 0.0) for c in contacts])
 
 
-def wrench_span(kinds, contact_matrices, length):
+def wrench_span(kinds, matrices, length):
     """Q^T (k, 6), Q an orthonormal basis of the range of the contacts' maps (the columns of G_i
     each contact's cone uses: f_1, the tangential forces with friction, the spin moment of a soft
     finger) in the units (force, torque / length), when its rank k is below 6; None otherwise.
@@ -128,7 +129,7 @@ def wrench_span(kinds, contact_matrices, length):
     when deficient (three collinear point contacts)."""
     if len(kinds) > 2 and kinds.count(0) + 3 * kinds.count(1) + 4 * kinds.count(2) >= 6:
         return None
-    matrices = torques_over(contact_matrices, len(kinds), length)
+    matrices = torques_over(matrices, len(kinds), length)
     M = np.hstack([G[:, :(1, 3, 4)[kind]] for G, kind in zip(matrices, kinds)])
     U, s, _ = np.linalg.svd(M)
     k = int(np.count_nonzero(s > RANK_TOL * s[0]))
@@ -291,22 +292,20 @@ class _ContactsProjection(_ContactsRoot, Affine):
 
 # a contact's entries in a grasp's values after the G_i (`grasp_values`)
 _MU, _MU_SPIN, _D_INV, _SPIN_WEIGHT, _PER_CONTACT = 0, 1, 2, 3, 4
+_G = 24           # ... and in a contact's entries after its G_i (Contact._g)
 
 
 def grasp_values(contacts):
     """One array of what a grasp's wrench sets are made of: the G_i (m x 24, row-major), then per
-    contact (mu, mu_s, mu_s / mu, (mu / mu_s)^2) (0 for the last two without spin), then 1.0. A
-    template (below) fills a program and its force reader from it by gathers."""
-    values = []
-    for c in contacts:
-        values += c._g
-    for c in contacts:
-        mu, mu_s = c.mu, c.mu_spin
-        # the same expressions as contact_set's D^{-1} and WrenchSpace's spin weight
-        values += (mu, mu_s, mu_s / mu if mu_s > 0.0 else 0.0,
-                   (mu / mu_s) ** 2 if mu_s > 0.0 else 0.0)
-    values.append(1.0)
-    return np.array(values)
+    contact (mu, mu_s, mu_s / mu, (mu / mu_s)^2) (0 for the last two without spin), then 1.0,
+    gathered from the entries each contact computed when it was made (Contact._g). A template
+    (below) fills a program and its force reader from it by gathers."""
+    return _core_grasp_values([c._g for c in contacts])
+
+
+def contact_matrices(values, m):
+    """The G_i of m contacts from their `grasp_values`, (m, 6, 4): a view."""
+    return values[:24 * m].reshape(-1, 6, 4)
 
 
 class _Template:
@@ -394,10 +393,9 @@ class _Template:
         """The Target of these contacts (of this template's structure) in the units (force,
         torque / length), values their `grasp_values` in those units (`torques_over`); span:
         their Q^T (`wrench_span`) when the template's set is projected."""
-        floats = self.floats.copy()
-        floats[self.dst] = values[self.src] * values[self.scale] + self.add
-        reader = self.reader.copy()
-        reader[self.read_dst] = values[self.read_src]
+        ints, floats, reader = template_arrays(values, self.ints, self.floats, self.reader,
+                                               self.dst, self.src, self.scale, self.add,
+                                               self.read_dst, self.read_src)
         reader[LENGTH] = length
         magnitude, lifted, linf = self.made_of
         if self.projected:
@@ -410,9 +408,8 @@ class _Template:
         if self.projected:
             root.matrix, root.offset = M, np.zeros(M.shape[0])
         root.dim = self.dim
-        matrices = values[:24 * len(contacts)].reshape(-1, 6, 4)
+        matrices = contact_matrices(values, len(contacts))
         root._made_of = (contacts, magnitude, lifted, linf, matrices)
-        ints = self.ints.copy()
         root._program = (ints, floats)
         root._witness_slots = self.slots
         root._witness_size = self.witness_size
@@ -439,18 +436,17 @@ MAX_TEMPLATES = 256     # structures kept (a robot's contact sets, a service's g
 
 
 class WrenchSpace:
-    """W (eq. 14) for a list of contacts; contact_matrices: the contacts' G_i, (m, 6, 4).
-    `set` is W in R^6; `target(method)` the compiled set min_force shoots at with that method
-    (W, or W_Linf's lift for LIFTED_METHODS, or its image in the span of a rank-deficient
-    grasp's wrenches) in the units (force, torque / length) (`Grasp.length`), built on first
+    """W (eq. 14) for a list of contacts; values: their `grasp_values`. `set` is W in R^6;
+    `target(method)` the compiled set min_force shoots at with that method (W, or W_Linf's lift
+    for LIFTED_METHODS, or its image in the span of a rank-deficient grasp's wrenches) in the
+    units (force, torque / length) (`Grasp.length`), built on first
     use."""
 
-    def __init__(self, contacts, norm, magnitude, contact_matrices, values=None, length=1.0):
+    def __init__(self, contacts, norm, magnitude, values, length=1.0):
         self.norm = norm
         self.magnitude = magnitude
         self.length = length
         self._contacts = contacts
-        self._matrices = contact_matrices
         self._values = values
         self._targets = {}
         self._by_method = {}
@@ -459,8 +455,7 @@ class WrenchSpace:
     def spin_weight(self):
         """The weight of f_4^2 in ||f||^2 of eq. (15), per contact; point contacts have no
         f_4."""
-        return np.array([(c.mu / c.mu_spin) ** 2 if c.mu_spin > 0.0 else 0.0
-                         for c in self._contacts])
+        return np.array([c._g[_G + _SPIN_WEIGHT] for c in self._contacts])
 
     @property
     def set(self):
@@ -496,7 +491,8 @@ class WrenchSpace:
     def _span_of(self, kinds):
         span = self.__dict__.get("_span", _UNKNOWN)
         if span is _UNKNOWN:
-            span = self._span = wrench_span(kinds, self._matrices, self.length)
+            span = self._span = wrench_span(kinds, contact_matrices(self._values, len(kinds)),
+                                            self.length)
         return span
 
     def _target(self, lifted, length, in_span=False):
@@ -514,12 +510,11 @@ class WrenchSpace:
             key = (kinds, self.magnitude, lifted, linf, 6 if span is None else span.shape[0])
             template = _TEMPLATES.get(key)
             if template is not None:
-                if self._values is None:
-                    self._values = grasp_values(contacts)
                 target = template.target(
                     contacts, torques_over(self._values, len(contacts), length), length, span)
             else:
-                target = generic_target(contacts, self.norm, self.magnitude, self._matrices,
+                target = generic_target(contacts, self.norm, self.magnitude,
+                                        contact_matrices(self._values, len(contacts)),
                                         self.spin_weight, lifted, length, span)
                 if len(_TEMPLATES) >= MAX_TEMPLATES:
                     _TEMPLATES.pop(next(iter(_TEMPLATES)), None)

@@ -30,8 +30,9 @@ import threading
 
 import numpy as np
 
-from .._core import capacity
+from .._core import capacity, delta_arrays, ellipsoid_origin
 from .._core import growth_query as query
+from .._core.shapes import INSIDE, THIN, UNDECIDED
 from .._core.growth import (BAD_POSE_A, COINCIDENT, EPS, FRAME, MA, MAX_ITER, MB, METHOD,
                            NOT_CERTIFIED, OK, PENETRATING, POSES, SEPARATED, SPREAD, TAIL,
                            TOUCHING, TOUCHING_TOL, WARM_SPREAD, WARM_START, WS)
@@ -128,7 +129,9 @@ class GrowthDistance:
             res = query(self._ints, self._floats, R_a, p_a, R_b, p_b, packed)
         except (TypeError, ValueError):
             res = None
-        if res is None or res[0] != OK:
+        # a pose the query refused (or could not take) is converted, checked and named here;
+        # coincident reference points are an answer (sigma 0)
+        if res is None or (res[0] != OK and res[0] != COINCIDENT):
             R_a, p_a = parse_pose(pose_a, "pose_a")
             R_b, p_b = parse_pose(pose_b, "pose_b")
             res = query(self._ints, self._floats, R_a, p_a, R_b, p_b, packed)
@@ -213,12 +216,10 @@ def _check_origin_interior(X, name):
 
 
 # The closed forms decide only where facet expansion's answer is not in doubt: the origin at most
-# CLEAR_INSIDE of the way from the centre to the boundary (in the set's own scale), or at least
-# CLEAR_OUTSIDE beyond it, or a set exactly flat; thin sets (an axis below THIN of the largest)
-# and everything between are left to facet expansion, as before.
-CLEAR_INSIDE = 0.9
-CLEAR_OUTSIDE = 1.1
-THIN = 1e-3
+# CLEAR_INSIDE (0.9) of the way from the centre to the boundary (in the set's own scale), or at
+# least CLEAR_OUTSIDE (1.1) beyond it, or a set exactly flat; thin sets (an axis below THIN, 1e-3,
+# of the largest) and everything between are left to facet expansion, as before. The bounds are
+# core/growth/shapes.hpp's, which decides for ellipsoids.
 
 
 def _origin_verdict(X):
@@ -265,41 +266,13 @@ def _origin_verdict(X):
 
 def _ellipsoid_verdict(E):
     """{c + S x : ||x|| <= 1} in R^3 holds the origin strictly iff S S^T = M is nonsingular and
-    c^T M^-1 c < 1; q = c^T M^-1 c is the origin's squared scaled radius."""
-    S = E.shape
+    c^T M^-1 c < 1; q = c^T M^-1 c is the origin's squared scaled radius (core/growth/shapes.hpp)."""
     if E.dim != 3:
         return None
-    if S.shape[1] < 3:
+    if E.shape.shape[1] < 3:
         return False                  # rank < 3: a disk, a segment or a point
-    values = S.ravel().tolist()
-    if not any(values):
-        return False
-    if S.shape[1] == 3:
-        # M = S S^T from the rows, in plain arithmetic (a 3 x 3 product costs more in numpy)
-        r0, r1, r2 = values[0:3], values[3:6], values[6:9]
-        a = r0[0] * r0[0] + r0[1] * r0[1] + r0[2] * r0[2]
-        b = r0[0] * r1[0] + r0[1] * r1[1] + r0[2] * r1[2]
-        c = r0[0] * r2[0] + r0[1] * r2[1] + r0[2] * r2[2]
-        d = r1[0] * r1[0] + r1[1] * r1[1] + r1[2] * r1[2]
-        e = r1[0] * r2[0] + r1[1] * r2[1] + r1[2] * r2[2]
-        f = r2[0] * r2[0] + r2[1] * r2[1] + r2[2] * r2[2]
-    else:
-        (a, b, c), (_, d, e), (_, _, f) = (S @ S.T).tolist()      # M, symmetric
-    # the adjugate's first row and det M
-    A, B, C = d * f - e * e, c * e - b * f, b * e - c * d
-    det = a * A + b * B + c * C
-    trace = a + d + f
-    # det >= THIN^2 trace^3 / 27 bounds M's least eigenvalue below by ~THIN^2 of its largest
-    if not det >= THIN * THIN * trace ** 3 / 27.0 or not det > 0.0:
-        return None
-    x, y, z = E.center.tolist()
-    if x == y == z == 0.0:
-        return True
-    D, F, I = a * f - c * c, b * c - a * e, a * d - b * b
-    q = (A * x * x + D * y * y + I * z * z + 2.0 * (B * x * y + C * x * z + F * y * z)) / det
-    if q <= CLEAR_INSIDE ** 2:
-        return True
-    return False if q >= CLEAR_OUTSIDE ** 2 else None
+    verdict = ellipsoid_origin(E.center, E.shape)
+    return None if verdict == UNDECIDED else verdict == INSIDE
 
 
 class _PosedDelta(MinkowskiSum):
@@ -336,16 +309,14 @@ def _delta_program(A, B):
         template = _DELTA_TEMPLATES.get(key)
         if template is not None:
             ints, floats, slots, ws, (sa, sb) = template
-            floats = floats.copy()
-            floats[sa:sa + len(pa)] = pa
-            floats[sb:sb + len(pb)] = pb
+            ints, floats = delta_arrays(ints, floats, sa, pa, sb, pb)
             delta = _PosedDelta.__new__(_PosedDelta)
             delta.dim = 3
             delta._made_of = (A, B)
-            delta._program = (ints.copy(), floats)
+            delta._program = (ints, floats)
             delta._witness_slots = slots
             delta._witness_size = ws
-            return delta, delta._program[0], floats
+            return delta, ints, floats
     delta = MinkowskiSum([Affine(np.eye(3), A), Affine(-np.eye(3), B)])
     ints, floats = delta.program
     # the query's constants and memory go at the end of the program's floats: the kernel reads
