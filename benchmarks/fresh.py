@@ -168,7 +168,7 @@ def run_trivial(n, rng):
     grasp = gf.Grasp([gf.Contact(p, n_, MU, MU_S) for p, n_ in finger_points(rng)])
     zero = np.zeros(6)
     grasp.min_force(zero)
-    _, code, shoot, args, A, size, _, _ = grasp._call("L1", "normal", "zc-ie")
+    _, code, shoot, args, A, size, _, _, _ = grasp._call("L1", "normal", "zc-ie")
     table = start_table(A, 6)
     axes, (rb, rt, h), pose_a, _ = shape_pair(rng)
     solver = gf.GrowthDistance(gf.Ellipsoid(np.zeros(3), np.diag(axes)),

@@ -73,7 +73,7 @@ def loads(grasp, rng):
 def full_dimensional(grasp, monkeypatch):
     """A grasp of the same contacts whose min_force shoots at the sets in R^6 (no span)."""
     with monkeypatch.context() as m:
-        m.setattr(WS, "wrench_span", lambda kinds, matrices, length: None)
+        m.setattr(WS, "wrench_span", lambda kinds, values, length: None)
         other = gf.Grasp(grasp.contacts)
         for norm, magnitude in OBJECTIVES:
             assert other._space(norm, magnitude).span is None

@@ -149,8 +149,8 @@ inline bool forces_hold(Vec r, Vec reader, Vec packed) {
 // off Z_W(r). start: the wrench set's start table or an empty array; then a wrench space's
 // constant arguments: the shot set's program, its force reader and its span: empty for W (or
 // W_Linf's lift) itself, or Q^T (k, 6) by rows for the image of a rank-deficient grasp's set in
-// the range of [G_1 ... G_m] (Q an orthonormal basis of it; graspforce.wrench_space), whose ray
-// is Q^T r in its last k coordinates.
+// the range of [G_1 ... G_m] in the reader's units (Q an orthonormal basis of it;
+// graspforce.wrench_space), whose ray is Q^T times the load in its last k coordinates.
 //
 // The set is shot in the reader's units (force, torque / length), along r = -(w_f, w_tau / length):
 // t, the forces and sigma do not depend on them, and the wrenches and resultant are returned in
@@ -180,8 +180,8 @@ Head shoot_and_read_forces(Vec w_ext, Int method, double eps, Int max_iter, Vec 
     const Int n = ints[blocks(ints[0]).DIM];   // the set's dimension: its root node's
     const Int k = span.n > 0 ? span.n / 6 : 6;
     const double length = reader[forces::LENGTH];
-    Array load_(6);
-    const Vec load = load_.vec();
+    double load_[6];
+    const Vec load{load_, 6};
     for (Int a = 0; a < 3; ++a) load[a] = -w_ext[a];
     for (Int a = 3; a < 6; ++a) load[a] = -w_ext[a] / length;
     Array r_(n);

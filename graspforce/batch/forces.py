@@ -18,7 +18,7 @@ def prepared_call(grasp, norm, magnitude, method, table=True, full=False):
     without, rows start as a new grasp's first call does. full: the set in R^6 that answers
     loads outside a rank-deficient grasp's span (Grasp._call)."""
     check_grasp(grasp)
-    key = (norm, magnitude, method) + ((True,) if full else ())
+    key = (norm, magnitude, method, True) if full else (norm, magnitude, method)
     call = grasp._calls.get(key) if _hashable(norm, magnitude, method) else None
     if call is None:
         call = grasp._call(norm, magnitude, method, full)

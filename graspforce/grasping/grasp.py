@@ -191,7 +191,8 @@ class Grasp:
         code = METHODS[check_choice(method, METHODS, "method")]
         space = self._space(norm, magnitude)
         target = space.target(method, full)
-        call = self._calls[(norm, magnitude, method) + ((True,) if full else ())] = (
+        key = (norm, magnitude, method, True) if full else (norm, magnitude, method)
+        call = self._calls[key] = (
             space, code, space.shoot, target.compiled_args, target.set, target.packed_size,
             target.extra, target.t_scale, target.ray_dims)
         return call

@@ -38,9 +38,10 @@ A grasp whose wrenches do not span R^6 (two point contacts make no torque about 
 them: rank 5) has a flat W, which gets no start table and on which IE and ZC take more steps.
 min_force then shoots at the image Q^T W in R^k (or block-diag(I, Q^T) of the lift), Q an
 orthonormal basis of the range of the contacts' maps (`wrench_span`), along Q^T r: the same t,
-the forces read off the same witnesses. A load farther than 1e-10 |w_ext| from the range
-(core/forces.hpp, SPAN_TOL), or one whose shot there ends without a certified hit or miss, is
-shot at the full-dimensional set instead.
+the forces read off the same witnesses (Q, the set and the ray in the units (force, torque / L)
+of Grasp.length). A load farther than 1e-10 of its size from the range (core/forces.hpp,
+SPAN_TOL), or one whose shot there ends without a certified hit or miss, is shot at the
+full-dimensional set instead.
 """
 import numpy as np
 
@@ -120,16 +121,21 @@ def contact_kinds(contacts):
     return tuple([(c.mu > 0.0) + (c.mu_spin > 0.0) for c in contacts])
 
 
-def wrench_span(kinds, matrices, length):
+def may_be_deficient(kinds):
+    """Whether `wrench_span` examines a grasp of these contacts' kinds: at most two contacts, or
+    fewer than six force components (1, 3 and 4 a contact of kind 0, 1 and 2; with three contacts
+    or more, m + 2 sum(kinds) < 6 says that, kind 2 never fitting)."""
+    return len(kinds) <= 2 or len(kinds) + 2 * sum(kinds) < 6
+
+
+def wrench_span(kinds, values, length):
     """Q^T (k, 6), Q an orthonormal basis of the range of the contacts' maps (the columns of G_i
     each contact's cone uses: f_1, the tangential forces with friction, the spin moment of a soft
-    finger) in the units (force, torque / length), when its rank k is below 6; None otherwise.
-    Only grasps of at most two contacts or of fewer than six force components are examined (an
-    SVD, ~20-30 us): a fresh grasp of more contacts pays three counts, and is shot in R^6 even
-    when deficient (three collinear point contacts)."""
-    if len(kinds) > 2 and kinds.count(0) + 3 * kinds.count(1) + 4 * kinds.count(2) >= 6:
-        return None
-    matrices = torques_over(matrices, len(kinds), length)
+    finger; values: their `grasp_values`) in the units (force, torque / length), when its rank k
+    is below 6; None otherwise. An SVD, ~20-30 us: only grasps that `may_be_deficient` are
+    examined; a fresh grasp of other kinds pays one sum, and is shot in R^6 even when deficient
+    (three collinear point contacts)."""
+    matrices = torques_over(contact_matrices(values, len(kinds)), len(kinds), length)
     M = np.hstack([G[:, :(1, 3, 4)[kind]] for G, kind in zip(matrices, kinds)])
     U, s, _ = np.linalg.svd(M)
     k = int(np.count_nonzero(s > RANK_TOL * s[0]))
@@ -439,8 +445,7 @@ class WrenchSpace:
     """W (eq. 14) for a list of contacts; values: their `grasp_values`. `set` is W in R^6;
     `target(method)` the compiled set min_force shoots at with that method (W, or W_Linf's lift
     for LIFTED_METHODS, or its image in the span of a rank-deficient grasp's wrenches) in the
-    units (force, torque / length) (`Grasp.length`), built on first
-    use."""
+    units (force, torque / length) (`Grasp.length`), built on first use."""
 
     def __init__(self, contacts, norm, magnitude, values, length=1.0):
         self.norm = norm
@@ -486,13 +491,14 @@ class WrenchSpace:
     def span(self):
         """Q^T of the contacts' wrenches' span, in the units (force, torque / length), when it is
         not R^6 (`wrench_span`), else None; computed on first use."""
-        return self._span_of(contact_kinds(self._contacts))
+        kinds = contact_kinds(self._contacts)
+        return self._span_of(kinds) if may_be_deficient(kinds) else None
 
     def _span_of(self, kinds):
+        """`span` of a grasp that `may_be_deficient`, computed once."""
         span = self.__dict__.get("_span", _UNKNOWN)
         if span is _UNKNOWN:
-            span = self._span = wrench_span(kinds, contact_matrices(self._values, len(kinds)),
-                                            self.length)
+            span = self._span = wrench_span(kinds, self._values, self.length)
         return span
 
     def _target(self, lifted, length, in_span=False):
@@ -502,7 +508,7 @@ class WrenchSpace:
         structure's first grasp)."""
         contacts = self._contacts
         kinds = contact_kinds(contacts)
-        span = self._span_of(kinds) if in_span else None
+        span = self._span_of(kinds) if in_span and may_be_deficient(kinds) else None
         target = self._targets.get((lifted, length, span is not None))
         if target is None:
             linf = self.norm == "Linf"
