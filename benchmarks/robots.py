@@ -63,7 +63,8 @@ def run(name, k, log):
     exact_solver = clarabel_socp.Prepared(grasp, tight=True)
     exact = np.array([exact_solver.solve(w).sigma for w in W])
     ours_t, ours = _timed_pass(lambda w: grasp.min_force(w, method="zc-ie"), W)
-    clar_t, clar = _timed_pass(prepared.solve, W)
+    # Clarabel's solve alone, without the record built from it (~15 % more)
+    clar_t, _ = _timed_pass(prepared.solve_raw, W)
     pyr_t, pyr = _timed_pass(lambda w: pyramid.min_force(grasp, w, solver="osqp"), W)
     cold, warm = load_times(name)
 

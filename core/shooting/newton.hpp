@@ -228,10 +228,11 @@ NewtonOut newton_finish(IVec ints, Vec f, Vec r, double eps, Mat P, Mat Wt, Vec 
     const Int ycap = 2 * n + 2;
     const Int N = n + cap + ycap + 2;
     const Int Nm = corner ? N : 0;
-    // the work arrays, one float and one int buffer
-    Array fbuf(cap * ws + cap * n * n + cap * n + n * ycap + ycap + 2 * nmax * qmax + 2 * N * N +
-               2 * N + size + 3 * Nm * Nm + 3 * Nm + 2 * n + ws + qmax);
-    IArray ibuf(k + 4 * ycap + 2 * N);
+    // the work arrays, one float and one int buffer, each entry written before it is read
+    Array fbuf = Array::uninitialized(1, cap * ws + cap * n * n + cap * n + n * ycap + ycap +
+                                             2 * nmax * qmax + 2 * N * N + 2 * N + size +
+                                             3 * Nm * Nm + 3 * Nm + 2 * n + ws + qmax);
+    IArray ibuf = IArray::uninitialized(k + 4 * ycap + 2 * N);
     Int fat = 0;
     auto take_mat = [&](Int rows, Int cols) {
         const Mat M = mat_view(fbuf.vec(), fat, rows, cols);
@@ -277,7 +278,7 @@ NewtonOut newton_finish(IVec ints, Vec f, Vec r, double eps, Mat P, Mat Wt, Vec 
     const Vec point = take(n);
     const Vec wit = take(ws);
     const Vec nrm = nrmA.vec();
-    const Vec xbar = take(qmax);             // zeros
+    const Vec xbar = take(qmax);
     Int steps = 0;
     Int calls = 0;
     const double nr = dot(normal, r);

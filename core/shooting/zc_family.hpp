@@ -2,6 +2,7 @@
 
 #include "api.hpp"
 #include "shooting/shot.hpp"
+#include "geometry/piece.hpp"
 
 // ZC-based ray shooting (section 3.3) and ZC-IE (section 3.4.2), with or without the Newton
 // finish (newton.hpp).
@@ -20,10 +21,16 @@ namespace gf {
 namespace zc_family_detail {
 
 constexpr Int REFACTOR = 64;   // IE steps between fresh factorizations of the facet matrix
-// "zc-ie-newton" tries the Newton finish (newton.hpp, docs/core-api.md) once an IE step's
-// relative gap is at most NEWTON_GAP; after a failed try, the next waits for the gap to shrink by
-// NEWTON_RETRY
+// "zc-ie-newton" tries the Newton finish (newton.hpp, docs/core-api.md) in up to R^NEWTON_CHEAP
+// once an IE step's relative gap is at most NEWTON_GAP; above, where a try is dear (grasps in R^6:
+// ~5 us, more than the IE steps it saved when tried early), once the gap is at most
+// NEWTON_GAP_DEAR and the last NEWTON_STABLE n IE steps each found their support point on a piece
+// of their facet (the exit face's pieces are found); after a failed try, the next waits for the
+// gap to shrink by NEWTON_RETRY
+constexpr Int NEWTON_CHEAP = 3;
 constexpr double NEWTON_GAP = 0.1;
+constexpr double NEWTON_GAP_DEAR = 1e-2;
+constexpr Int NEWTON_STABLE = 2;
 constexpr double NEWTON_RETRY = 1e-2;
 // the secant query (ZC-IE from a facet whose points' support directions are known: `zc_from`'s
 // `directions`): a secant point must keep at least SECANT_HOLD of the weight of t r in the next
@@ -133,6 +140,14 @@ struct OriginVerdict {
     if (st == CONVERGED || miss_to_rounding(h, P, k)) return {MISS, 0.0, h, calls};
     const double nr = dot(nvec, r);
     return {LIMIT, nr > 0.0 ? h / nr : INF, h, calls};
+}
+
+// Whether the support point with witness `wit` lies on a piece (piece.hpp) of one of the facet's
+// points Wt[:n].
+[[gnu::always_inline]] inline bool on_facet_piece(IVec ints, Mat Wt, Int n, Vec wit) {
+    for (Int j = 0; j < n; ++j)
+        if (piece::same_piece(ints, wit, Wt.row(j))) return true;
+    return false;
 }
 
 // M = [P_0 .. P_{n-1}]: the facet's points as columns.
@@ -359,11 +374,13 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
     // the row of P that the last IE step replaced since Pz last held the facet (-1: unknown)
     Int changed = -1;
     bool fresh_only = false;
-    double newton_gap = mode == WITH_NEWTON ? NEWTON_GAP : -1.0;
+    double newton_gap =
+        mode != WITH_NEWTON ? -1.0 : n <= NEWTON_CHEAP ? NEWTON_GAP : NEWTON_GAP_DEAR;
     Int idle = 0;   // ZC steps in a row that left b_k where it was
     // a Newton try owed: the gap of the IE step that asked for it (0: none). Its simplex is the
     // step's facet, kept in Pz[:n], and the step's support point, P[n]
     double pending = 0.0;
+    Int stable = 0;   // IE steps in a row whose support point lies on a piece of their facet
     Int code = LIMIT;
     double t_up = INF;
     double h_n = 0.0;
@@ -561,7 +578,9 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                 for (Int j = 0; j < n; ++j) lam[j] = gam[j] * t;
                 const double gap = h * ny - 1.0;
                 kz = keep(P, Wt, lam, n, Pz, Wz, lz, changed);
-                if (gap <= newton_gap) {
+                if (newton_gap > 0.0 && n > NEWTON_CHEAP)
+                    stable = on_facet_piece(ints, Wt, n, wit) ? stable + 1 : 0;
+                if (gap <= newton_gap && (n <= NEWTON_CHEAP || stable >= NEWTON_STABLE * n)) {
                     // IE's cutting planes have found the exit face's pieces: Newton on them
                     // (newton.hpp), with the new support point as a candidate piece, tried when
                     // this step is done: its simplex, Pz[:n] and P[n], stays as it is until then
@@ -620,6 +639,7 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
         age = -1;
         changed = -1;
         secant = false;
+        stable = 0;
         DistOut z = zc_step(ints, floats, r, t, P, Wt, lam, k, eps, max_iter, nvec, v, point,
                             wit, b, sc);
         Int st = z.status;
