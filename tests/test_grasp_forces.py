@@ -126,7 +126,8 @@ def test_sphere_at_the_papers_eps(method):
             assert abs(res.sigma / true - 1) <= 1e-5 + 2 * U / d
 
 
-# --- random grasps against the SOCP ----------------------------------------------------------------
+# --- random grasps against the SOCP
+# ----------------------------------------------------------------
 CASES = list(range(28))
 
 
@@ -221,7 +222,8 @@ def test_pinch_cannot_resist_torque_about_its_axis(norm, magnitude, method):
     check_forces(soft, w, res)
 
 
-# --- Linf: the exact set against the literal CH(W_1 + ... + W_m) of eq. (14) ------------------------
+# --- Linf: the exact set against the literal CH(W_1 + ... + W_m) of eq. (14)
+# ------------------------
 def asymmetric_grasp():
     # a box held by three soft fingers at different heights and a point contact below
     return gf.Grasp([gf.Contact([0.05, 0.01, 0.02], [-1, 0, 0], 0.6, 0.01),
@@ -302,7 +304,8 @@ def test_linf_literal_is_exact_on_the_symmetric_sphere():
         assert abs(grasp.min_force(w, norm="Linf").sigma / true - 1) <= EPS + 2 * U / d
 
 
-# --- degenerate input: zero wrench, one contact, coincident contacts --------------------------------
+# --- degenerate input: zero wrench, one contact, coincident contacts
+# --------------------------------
 @pytest.mark.parametrize("method", METHODS)
 @pytest.mark.parametrize("norm, magnitude", OBJECTIVES)
 def test_zero_wrench(norm, magnitude, method):
@@ -450,7 +453,7 @@ def test_wrenches_of_any_type_and_layout_agree():
     grasp = asymmetric_grasp()
     w = np.array([0.3, -1.0, 2.0, 0.05, -0.1, 0.02])
     # the second shot builds the set's start table, which every call below then starts from
-    # (graspforce._start_table)
+    # (graspforce.geometry._start_table)
     grasp.min_force(w)
     ref = grasp.min_force(w)
     frozen = w.copy()

@@ -1,5 +1,5 @@
 """min_force on grasps whose wrenches do not span R^6 (two point contacts, one contact): shot at
-the image of W in the span (graspforce.wrench_space.wrench_span), the answers are the
+the image of W in the span (graspforce.grasping.wrench_space.wrench_span), the answers are the
 full-dimensional set's within eps and the SOCP's, certified in R^6; a load outside the span is
 answered on the full-dimensional set; batch rows equal single calls."""
 import math

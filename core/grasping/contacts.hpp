@@ -1,5 +1,5 @@
 // What a grasp made per query computes once: a contact's frame and G_i (eq. 11), and a wrench
-// space's program and force reader gathered from a template (graspforce/wrench_space.py).
+// space's program and force reader gathered from a template (graspforce/grasping/wrench_space.py).
 #pragma once
 
 #include <cmath>
@@ -15,8 +15,8 @@ constexpr Int ENTRIES = G + 4;
 
 // G_i and the friction entries of a contact at p with normal n (not normalized) into out
 // (ENTRIES), the normalized normal into unit; false for a normal of length <= 1e-12. The
-// arithmetic is graspforce/contact.py's, operation for operation; `dot3` is the dot product
-// that contact.py's norms take (NumPy's, whose BLAS may fuse multiply-adds), passed in so
+// arithmetic is graspforce/grasping/contact.py's, operation for operation; `dot3` is the dot
+// product that contact.py's norms take (NumPy's, whose BLAS may fuse multiply-adds), passed in so
 // that the norms round as NumPy's do.
 template <class Dot3>
 bool contact_entries(const double* p, const double* n_in, double mu, double mu_s, Dot3 dot3,
@@ -56,7 +56,7 @@ bool contact_entries(const double* p, const double* n_in, double mu, double mu_s
 }
 
 // A template's gathers: floats[dst] = values[src] * values[scale] + add, reader[read_dst] =
-// values[read_src] (graspforce.wrench_space._Template).
+// values[read_src] (graspforce.grasping.wrench_space._Template).
 inline void fill_template(Vec values, Vec floats, IVec dst, IVec src, IVec scale, Vec add,
                           Vec reader, IVec read_dst, IVec read_src) {
     for (Int i = 0; i < dst.n; ++i) floats[dst[i]] = values[src[i]] * values[scale[i]] + add[i];

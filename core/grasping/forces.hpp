@@ -10,8 +10,8 @@ namespace gf {
 
 namespace forces {
 
-// A Target's force reader (graspforce.wrench_space): how forces are read off witnesses, as one
-// float array read by offsets. Layout: [witness size, linf, full, m, leaves L, length, table
+// A Target's force reader (graspforce.grasping.wrench_space): how forces are read off witnesses, as
+// one float array read by offsets. Layout: [witness size, linf, full, m, leaves L, length, table
 // (4, L) by rows CONTACT, SLOT, SIZE, MAP, G (m, 6, 4), spin_weight (m,), mu (m,), mu_spin (m,),
 // maps]. The set and G are in the units (force, torque / length) (docs/grasp-api.md).
 constexpr Int READER_HEAD = 6;
@@ -25,7 +25,7 @@ inline Int extra_size(Int m) { return 7 + 10 * m; }
 
 namespace forces_detail {
 
-// rows of a wrench space's leaf table (graspforce.wrench_space.Target._table)
+// rows of a wrench space's leaf table (graspforce.grasping.wrench_space.Target._table)
 constexpr Int CONTACT = 0;
 constexpr Int SLOT = 1;
 constexpr Int SIZE = 2;
@@ -150,7 +150,7 @@ inline bool forces_hold(Vec r, Vec reader, Vec packed) {
 // constant arguments: the shot set's program, its force reader and its span: empty for W (or
 // W_Linf's lift) itself, or Q^T (k, 6) by rows for the image of a rank-deficient grasp's set in
 // the range of [G_1 ... G_m] in the reader's units (Q an orthonormal basis of it;
-// graspforce.wrench_space), whose ray is Q^T times the load in its last k coordinates.
+// graspforce.grasping.wrench_space), whose ray is Q^T times the load in its last k coordinates.
 //
 // The set is shot in the reader's units (force, torque / length), along r = -(w_f, w_tau / length):
 // t, the forces and sigma do not depend on them, and the wrenches and resultant are returned in
@@ -176,7 +176,7 @@ Head shoot_and_read_forces(Vec w_ext, Int method, double eps, Int max_iter, Vec 
     if (w_ext.n != 6 || !std::isfinite(ww)) return {BAD_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0};
     if (ww == 0.0) return {ZERO_WRENCH, 0.0, 0.0, 0.0, 0, 0, 0, 0};
     // the load -w_ext in the reader's units, and r: the load, or Q^T times it in the span, after
-    // the lift's m - 1 zeros for Linf (graspforce.wrench_space)
+    // the lift's m - 1 zeros for Linf (graspforce.grasping.wrench_space)
     const Int n = ints[blocks(ints[0]).DIM];   // the set's dimension: its root node's
     const Int k = span.n > 0 ? span.n / 6 : 6;
     const double length = reader[forces::LENGTH];

@@ -9,9 +9,9 @@
 
 namespace gf::shapes {
 
-constexpr double THIN = 1e-3;            // graspforce.growth.THIN
-constexpr double CLEAR_INSIDE = 0.9;     // graspforce.growth.CLEAR_INSIDE
-constexpr double CLEAR_OUTSIDE = 1.1;    // graspforce.growth.CLEAR_OUTSIDE
+constexpr double THIN = 1e-3;            // graspforce.growth.growth.THIN
+constexpr double CLEAR_INSIDE = 0.9;     // graspforce.growth.growth.CLEAR_INSIDE
+constexpr double CLEAR_OUTSIDE = 1.1;    // graspforce.growth.growth.CLEAR_OUTSIDE
 constexpr Int INSIDE = 1, OUTSIDE = 0, UNDECIDED = -1;
 
 // {c + S x : ||x|| <= 1}, S (3, k) row-major with k >= 3, holds the origin strictly iff

@@ -96,8 +96,8 @@ void parallel_rows(Int rows, Int threads, MakeState make_state, Row row) {
 }  // namespace batch_detail
 
 // min_force for each row of `wrenches` (N, 6) on one wrench space, the arguments after them as
-// Grasp.min_force passes them to shoot_and_read_forces (graspforce/grasp.py). Writes per row
-// sigma, sigma_lower, status (batch::*) and iterations, and with forces.n > 0 the (m, 4) local
+// Grasp.min_force passes them to shoot_and_read_forces (graspforce/grasping/grasp.py). Writes per
+// row sigma, sigma_lower, status (batch::*) and iterations, and with forces.n > 0 the (m, 4) local
 // forces at forces[4 m i:]; with Grasp.min_force's reading of the head: a zero wrench is
 // OPTIMAL with sigma 0; a miss (which includes a ray leaving W at the origin) INFEASIBLE with
 // sigma inf; a shot stopped by max_iter, or whose forces lack their certificate (forces.hpp),

@@ -203,8 +203,8 @@ NB_MODULE(_core, m) {
         },
         "position"_a, "normal"_a, "mu"_a, "mu_spin"_a,
         "(position, unit normal, entries) of a contact with the default tangents "
-        "(graspforce.contact), or None: position or normal not a float64 array or list of 3 "
-        "finite floats, or a normal of length <= 1e-12.");
+        "(graspforce.grasping.contact), or None: position or normal not a float64 array or list "
+        "of 3 finite floats, or a normal of length <= 1e-12.");
 
     m.def(
         "grasp_values",
@@ -228,7 +228,8 @@ NB_MODULE(_core, m) {
         },
         "entries"_a,
         "A grasp's values from its contacts' entries: the G_i (m x 24), then per contact (mu, "
-        "mu_s, mu_s / mu, (mu / mu_s)^2), then 1.0 (graspforce.wrench_space.grasp_values).");
+        "mu_s, mu_s / mu, (mu / mu_s)^2), then 1.0 "
+        "(graspforce.grasping.wrench_space.grasp_values).");
 
     m.def(
         "template_arrays",
@@ -247,7 +248,7 @@ NB_MODULE(_core, m) {
         "reader"_a.noconvert(), "dst"_a.noconvert(), "src"_a.noconvert(), "scale"_a.noconvert(),
         "add"_a.noconvert(), "read_dst"_a.noconvert(), "read_src"_a.noconvert(),
         "(ints, floats, reader): copies of a template's arrays with a grasp's values gathered "
-        "in (graspforce.wrench_space._Template).");
+        "in (graspforce.grasping.wrench_space._Template).");
 
     m.def(
         "ellipsoid_origin",

@@ -1,12 +1,13 @@
 """Support programs: the layout of a compiled convex set, read by the core's support kernel.
 
 A convex set compiles to a *support program*: a tree of nodes stored in pre-order (a parent before
-its children) in flat arrays. `support` (core/kernel.hpp) evaluates h_A(u) and s_A(u) of eq. (2) for any program in four
-passes: directions flow down the tree (an affine node maps u to M^T u), support values flow up (a hull keeps its best child, a sum adds), the leaves that produced the point are flagged in the
-witness vector, and the support point is built up from the flagged nodes only. Every algorithm is
-compiled once against this kernel, whatever the shape. Two program shapes take loops of their
-own instead of the passes (their `plan`): the soft fingers' wrench sets, shot at on every
-min_force call, and sums of posed 3-D bodies, growth distance's Delta.
+its children) in flat arrays. `support` (core/geometry/kernel.hpp) evaluates h_A(u) and s_A(u) of
+eq. (2) for any program in four passes: directions flow down the tree (an affine node maps u to M^T
+u), support values flow up (a hull keeps its best child, a sum adds), the leaves that produced the
+point are flagged in the witness vector, and the support point is built up from the flagged nodes
+only. Every algorithm is compiled once against this kernel, whatever the shape. Two program shapes
+take loops of their own instead of the passes (their `plan`): the soft fingers' wrench sets, shot at
+on every min_force call, and sums of posed 3-D bodies, growth distance's Delta.
 
 A program is two arrays, `ints` and `floats`, so that a call from Python unboxes two arrays, not
 twelve. `ints` = [nn, kind, dim, pstart, cstart, ccount, wstart, dstart, ostart, choice,

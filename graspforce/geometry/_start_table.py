@@ -23,10 +23,10 @@ in R^6 (F = 87 facets on the ingot), ~10 ms in R^10 with F ~ 2000, where the loo
 products would cost more than the ZC search they replace; so tables are built for n <= MAX_DIM
 only, at a set's second shot (a set shot once never pays for one). The exception: rays that live
 in the last k <= MAX_DIM coordinates of a set in up to R^MAX_HULL_DIM (min_force's shots at
-W_Linf's lift, graspforce.wrench_space). Half of P_0 then spans that subspace, and the table keeps
-only the facets those rays leave through, found by random rays spread like P_0's points in that
-subspace: ~320 of ~530 on the ingot's lift in R^9, where the table cuts ZC's 11 support calls
-(~20 us of 53) to none. (Isotropic rays kept 69, and 15% of the benchmark's wrenches found
+W_Linf's lift, graspforce.grasping.wrench_space). Half of P_0 then spans that subspace, and the
+table keeps only the facets those rays leave through, found by random rays spread like P_0's points
+in that subspace: ~320 of ~530 on the ingot's lift in R^9, where the table cuts ZC's 11 support
+calls (~20 us of 53) to none. (Isotropic rays kept 69, and 15% of the benchmark's wrenches found
 no facet and started cold, ~9 us slower each.)
 """
 import numpy as np
@@ -55,7 +55,7 @@ NO_TABLE = np.empty(0)
 def start_table(A, ray_dims=None):
     """The table to pass with a shot at A (NO_TABLE on its first shot; built at its second).
     ray_dims = k < n: the rays shot at A have zeros but in their last k entries (W_Linf's lift,
-    graspforce.wrench_space)."""
+    graspforce.grasping.wrench_space)."""
     state = A._start_table
     if state is UNSEEN:
         A._start_table = SEEN_ONCE

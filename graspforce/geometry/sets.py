@@ -2,8 +2,8 @@
 
 Each set is a small tree: primitive leaves (polytope, ellipsoid, box, truncated cone) combined by
 convex hull, Minkowski sum and affine maps. The tree compiles once to the flat support program
-evaluated by the core's `support` (core/kernel.hpp), which returns h_A(u) and s_A(u) of eq. (2) together
-with a witness: which leaves produced the point and their leaf-local pre-images.
+evaluated by the core's `support` (core/geometry/kernel.hpp), which returns h_A(u) and s_A(u) of eq.
+(2) together with a witness: which leaves produced the point and their leaf-local pre-images.
 """
 import numpy as np
 
@@ -16,7 +16,7 @@ class ConvexSet:
     """A compact convex set in R^dim, given by its support map."""
 
     dim: int
-    _start_table = UNSEEN      # graspforce._start_table: built at the set's second shot
+    _start_table = UNSEEN      # graspforce.geometry._start_table: built at the set's second shot
 
     # -- the tree ---------------------------------------------------------------------------
     def _children(self):
@@ -36,7 +36,8 @@ class ConvexSet:
     # -- compiled form ----------------------------------------------------------------------
     @property
     def program(self):
-        """The support program (ints, floats) read by the compiled kernel (core/kernel.hpp)."""
+        """The support program (ints, floats) read by the compiled kernel
+        (core/geometry/kernel.hpp)."""
         prog = self.__dict__.get("_program")
         if prog is None:
             prog, self._witness_slots = _compile(self)
@@ -54,7 +55,8 @@ class ConvexSet:
 
     def __getstate__(self):
         # what ray_shoot keeps on the set is rebuilt on demand: its compiled entry point does not
-        # pickle, and a start table is built again after two shots (graspforce._start_table)
+        # pickle, and a start table is built again after two shots
+        # (graspforce.geometry._start_table)
         state = self.__dict__.copy()
         state.pop("_shot_layout", None)
         state.pop("_start_table", None)
@@ -371,8 +373,8 @@ def _point_from_witness(node, locals_, counter):
 
 def _is_embedding(M):
     """Whether M is [0; I] with at least one zero row: the map x -> (0, x) that lifts a set into
-    a space of more dimensions (min_force's lift of W_Linf, graspforce.wrench_space). It compiles
-    to no product at all (`_kernel.EMBED`)."""
+    a space of more dimensions (min_force's lift of W_Linf, graspforce.grasping.wrench_space). It
+    compiles to no product at all (`_kernel.EMBED`)."""
     m, n = M.shape
     return m > n and not M[:m - n].any() and np.array_equal(M[m - n:], np.eye(n))
 
@@ -380,7 +382,7 @@ def _is_embedding(M):
 def _origin_hull(node):
     """The set X when node is an embedding of CH({0} U X), written hull(Polytope([[0, ..]]), X):
     it compiles to one node (`_kernel.ORIGIN_EMBED`) whose value is t^T u + max(0, h_X), without
-    the origin's leaf or the hull (W_Linf's lift, graspforce.wrench_space: 213 -> 189 ns a
+    the origin's leaf or the hull (W_Linf's lift, graspforce.grasping.wrench_space: 213 -> 189 ns a
     support call). The origin keeps its witness slot, so witnesses read as the tree says."""
     if not (isinstance(node, Affine) and _is_embedding(node.matrix)):
         return None
@@ -395,7 +397,8 @@ def _origin_hull(node):
 
 
 def _compile(root):
-    """Flatten the tree in pre-order into the arrays of the support kernel (graspforce._kernel)."""
+    """Flatten the tree in pre-order into the arrays of the support kernel
+    (graspforce.geometry._kernel)."""
     nodes = []   # (set, parent index)
     stack = [(root, -1)]
     while stack:

@@ -22,8 +22,8 @@ class Contact:
     with f_2 = f_3 = 0 when mu = 0 and f_4 = 0 when mu_spin = 0.
 
     A contact is fixed once made: its frame and G_i are computed once, when it is made, by one
-    compiled call (core/grasping/contacts.hpp; a grasp built per query pays for them once, not at every
-    use).
+    compiled call (core/grasping/contacts.hpp; a grasp built per query pays for them once, not at
+    every use).
     """
 
     def __init__(self, position, normal, mu, mu_spin=0.0, tangents=None):
@@ -42,8 +42,8 @@ class Contact:
         self.mu = mu
         self.mu_spin = mu_spin
         # position, unit normal and the entries a grasp's values are made of
-        # (graspforce.wrench_space.grasp_values): G_i (6 x 4, row-major), mu, mu_s, mu_s / mu,
-        # (mu / mu_s)^2
+        # (graspforce.grasping.wrench_space.grasp_values): G_i (6 x 4, row-major), mu, mu_s, mu_s /
+        # mu, (mu / mu_s)^2
         self.position, self.normal, self._g = made
 
     @staticmethod

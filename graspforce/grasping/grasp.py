@@ -40,8 +40,9 @@ class Grasp:
         if length is not None and not (type(length) is float and 0.0 < length < math.inf):
             length = finite_scalar(length, "length", minimum=0.0, exclusive=True)
         self._length = length
-        # what the wrench sets are made of, G_i first (graspforce.wrench_space.grasp_values):
-        # one array for all, from the entries each contact computed when it was made
+        # what the wrench sets are made of, G_i first
+        # (graspforce.grasping.wrench_space.grasp_values): one array for all, from the entries each
+        # contact computed when it was made
         self._values = grasp_values(contacts)
         self._spaces = {}
         self._calls = {}
@@ -106,10 +107,10 @@ class Grasp:
         ||f|| (eq. 15). The minimum is 1/t for the farthest point t r of W (eq. 14) on the ray
         R(r), r = -w_ext, found by `method` (any of gf.METHODS) to relative accuracy eps; the
         forces are read off the witnesses of Z_W(r). For Linf, IE and ZC-IE shoot the ray (0, r)
-        at W_Linf's lift in R^(m + 5) (graspforce.wrench_space), where IE needs half the steps.
-        A grasp whose wrenches span only R^k, k < 6 (two point contacts), is shot in that span
-        (the set Q^T W, the ray Q^T r); a load outside it, or a shot there that ends uncertified,
-        at the full-dimensional set.
+        at W_Linf's lift in R^(m + 5) (graspforce.grasping.wrench_space), where IE needs half the
+        steps. A grasp whose wrenches span only R^k, k < 6 (two point contacts), is shot in that
+        span (the set Q^T W, the ray Q^T r); a load outside it, or a shot there that ends
+        uncertified, at the full-dimensional set.
         """
         try:
             call = self._calls.get((norm, magnitude, method))
@@ -149,7 +150,7 @@ class Grasp:
             return self._without_forces(space, "infeasible", math.inf, method, ray, t_scale)
         if sigma == math.inf:
             return self._without_forces(space, "max_iter", math.inf, method, ray, t_scale)
-        # "optimal" only with the certificate the compiled call checked (core/forces.hpp)
+        # "optimal" only with the certificate the compiled call checked (core/grasping/forces.hpp)
         return MinForce.from_packed("optimal" if status == HIT else "max_iter", sigma,
                                     1.0 / (t_scale * head[2]), norm, magnitude, method, ray,
                                     len(self.contacts))
@@ -183,9 +184,9 @@ class Grasp:
     def _call(self, norm, magnitude, method, full=False):
         """What min_force needs of one (norm, magnitude, method), checked and gathered once: the
         wrench space, the method's code, the compiled entry point and its constant arguments,
-        and of the target (graspforce.wrench_space.Target) its set, packed size, extra entries,
-        t_scale and ray dimensions. One lookup a call instead of four and their attributes: with
-        the slotted MinForce, the Python around the compiled call went from ~1.9 to ~1.4 us.
+        and of the target (graspforce.grasping.wrench_space.Target) its set, packed size, extra
+        entries, t_scale and ray dimensions. One lookup a call instead of four and their attributes:
+        with the slotted MinForce, the Python around the compiled call went from ~1.9 to ~1.4 us.
         full: the target in R^6 even when the grasp's wrenches span less (for loads outside
         the span), kept under the key (norm, magnitude, method, True)."""
         code = METHODS[check_choice(method, METHODS, "method")]
@@ -199,7 +200,7 @@ class Grasp:
 
     def _without_forces(self, space, status, sigma, method, ray, t_scale=1):
         """The record of a zero wrench (sigma 0), an infeasible one or an undecided one (inf);
-        t_scale: the shot set's (graspforce.wrench_space.Target)."""
+        t_scale: the shot set's (graspforce.grasping.wrench_space.Target)."""
         m = len(self.contacts)
         lower = sigma
         if ray is not None and status == "max_iter":
@@ -215,8 +216,8 @@ class Grasp:
     def is_force_closure(self, tol=1e-9, max_iter=2000):
         """Whether the contacts can resist every wrench: the origin is interior to W (eq. 14).
 
-        Certified either way (graspforce.quality): True once a polytope of support points of W
-        holds the origin strictly inside; False once a direction u with h_W(u) <= tol * size(W)
+        Certified either way (graspforce.grasping.quality): True once a polytope of support points
+        of W holds the origin strictly inside; False once a direction u with h_W(u) <= tol * size(W)
         is found (the wrench -u cannot be resisted, or needs unbounded force). The answer does
         not depend on the norm or magnitude (the cones are the same); W_L1 is the cheapest.
         False too if max_iter steps decide neither (the origin within about tol of W's boundary).
@@ -228,8 +229,8 @@ class Grasp:
         """The Ferrari-Canny quality: the largest Q such that every wrench of norm <= Q is resisted
         by contact forces of overall magnitude <= 1 (measured by norm and magnitude, eq. 13/15),
         i.e. the radius of the largest origin-centred ball in W. Bracketed to relative eps by
-        facet expansion (graspforce.quality); 0 when the grasp is not force-closure. In R^6 a
-        polytope inside a curved W needs ~eps^(-5/2) points to come within eps of it, so tight
+        facet expansion (graspforce.grasping.quality); 0 when the grasp is not force-closure. In R^6
+        a polytope inside a curved W needs ~eps^(-5/2) points to come within eps of it, so tight
         brackets are expensive (1e-4: ~1 s on a 3-finger grasp); after max_iter steps the
         current, still certified, bracket is returned.
         """

@@ -39,7 +39,7 @@ them: rank 5) has a flat W, which gets no start table and on which IE and ZC tak
 min_force then shoots at the image Q^T W in R^k (or block-diag(I, Q^T) of the lift), Q an
 orthonormal basis of the range of the contacts' maps (`wrench_span`), along Q^T r: the same t,
 the forces read off the same witnesses (Q, the set and the ray in the units (force, torque / L)
-of Grasp.length). A load farther than 1e-10 of its size from the range (core/forces.hpp,
+of Grasp.length). A load farther than 1e-10 of its size from the range (core/grasping/forces.hpp,
 SPAN_TOL), or one whose shot there ends without a certified hit or miss, is shot at the
 full-dimensional set instead.
 """
@@ -112,7 +112,7 @@ LIFT_MAX_CONTACTS = 6
 # deficiency leaves ~1e-16 (the rounding of G_i); where the dropped part spoils an answer, its
 # certificate in R^6 fails and the full-dimensional set answers
 RANK_TOL = 1e-12
-NO_SPAN = np.empty(0)      # the span argument of a set shot in R^6 (core/forces.hpp)
+NO_SPAN = np.empty(0)      # the span argument of a set shot in R^6 (core/grasping/forces.hpp)
 _UNKNOWN = object()        # a wrench space's span before it is first needed
 
 
@@ -156,7 +156,7 @@ def projection(span, m, lifted):
 
 class Target:
     """One set that min_force shoots at, compiled, with the table that reads contact forces off
-    its witnesses (`graspforce._forces`): W itself, or W_Linf's lift, whose t is `t_scale`
+    its witnesses (`graspforce.records._forces`): W itself, or W_Linf's lift, whose t is `t_scale`
     (= m) times W_Linf's, or either's image in the span Q^T (k, 6) of a rank-deficient grasp
     (`span`: Q^T by rows, NO_SPAN for a set in R^6), whose rays use its last `ray_dims` (k, else
     6) coordinates. maps: id(leaf) -> (contact, base, map) for the leaves of the contacts' sets
@@ -245,8 +245,8 @@ def torques_over(values, m, length):
 def generic_target(contacts, norm, magnitude, contact_matrices, spin_weight, lifted, length=1.0,
                    span=None):
     """The Target of a wrench space built as a tree and compiled by the generic compiler
-    (graspforce.sets): the reference that the templates below reproduce. The set is made in the
-    units (force, torque / length) (`Grasp.length`); span: Q^T of a rank-deficient grasp in
+    (graspforce.geometry.sets): the reference that the templates below reproduce. The set is made in
+    the units (force, torque / length) (`Grasp.length`); span: Q^T of a rank-deficient grasp in
     those units (`wrench_span`), whose image of the set is shot."""
     linf = norm == "Linf"
     matrices = torques_over(contact_matrices, len(contacts), length)

@@ -85,11 +85,11 @@ class GrowthDistance:
     once, and each call writes the two rotations into its support program in place.
 
     warm_start (method "zc-ie" only): each call after a certified one starts IE from support
-    points in directions spread around the previous normal (core/warm.hpp); for a pair that
+    points in directions spread around the previous normal (core/shooting/warm.hpp); for a pair that
     moves little between calls (time coherence). Other "zc-ie" calls start from support points
-    spread around r (COLD_SPREAD, core/growth.hpp); both instead of ZC from the origin, to
+    spread around r (COLD_SPREAD, core/growth/growth.hpp); both instead of ZC from the origin, to
     which they fall back. The compiled query keeps that memory at the end of the program's
-    floats (core/growth.hpp).
+    floats (core/growth/growth.hpp).
     """
 
     def __init__(self, A, B, method="zc-ie", eps=1e-9, max_iter=10000, touching_tol=1e-9,
@@ -112,7 +112,7 @@ class GrowthDistance:
         ws = self.delta.witness_size
         self._leaves_a = 1 if isinstance(A, Leaf) else len(A.leaves())
         self.warm_start = bool(warm_start) and method == "zc-ie"
-        # the solver's constants in the program's tail (TAIL, core/growth.hpp), which
+        # the solver's constants in the program's tail (TAIL, core/growth/growth.hpp), which
         # _delta_program began with Delta's own
         floats[len(floats) - TAIL + METHOD:len(floats) - TAIL + TOUCHING_TOL + 1] = (
             self._code, self.max_iter, self.warm_start, self.eps, touching_tol)
@@ -202,8 +202,8 @@ def parse_pose(pose, name):
 def _check_origin_interior(X, name):
     """The local origin must be interior (eq. 7), decided once per set: in closed form for the
     primitives whose origin is clearly inside or clearly not (`_origin_verdict`), else certified
-    by facet expansion (graspforce.quality). A flat set, or one whose origin lies outside or on
-    its boundary, is rejected."""
+    by facet expansion (graspforce.grasping.quality). A flat set, or one whose origin lies outside
+    or on its boundary, is rejected."""
     verdict = X.__dict__.get("_origin_interior")
     if verdict is None:
         verdict = _origin_verdict(X)
@@ -266,7 +266,8 @@ def _origin_verdict(X):
 
 def _ellipsoid_verdict(E):
     """{c + S x : ||x|| <= 1} in R^3 holds the origin strictly iff S S^T = M is nonsingular and
-    c^T M^-1 c < 1; q = c^T M^-1 c is the origin's squared scaled radius (core/growth/shapes.hpp)."""
+    c^T M^-1 c < 1; q = c^T M^-1 c is the origin's squared scaled radius
+    (core/growth/shapes.hpp)."""
     if E.dim != 3:
         return None
     if E.shape.shape[1] < 3:
@@ -297,8 +298,8 @@ MAX_TEMPLATES = 256     # pairs of leaf structures kept (polytopes of many verte
 
 
 def _delta_program(A, B):
-    """(Delta, ints, floats): its program, with the query's tail (TAIL, core/growth.hpp) at the
-    end of floats, holding the offsets of R_A and -R_B in floats, the witness size and the first
+    """(Delta, ints, floats): its program, with the query's tail (TAIL, core/growth/growth.hpp) at
+    the end of floats, holding the offsets of R_A and -R_B in floats, the witness size and the first
     spread. For two leaves, from a template per the leaves' kinds and sizes (their programs'
     ints depend on nothing else), made by the generic compiler at the first such pair: a copy
     and two parameter blocks (~3 us against ~20 us for the tree and its compile)."""

@@ -1,16 +1,17 @@
 """How min_force's contact forces are read off the final simplex Z_W(r): the force reader's layout
-(the compiled reading is core/forces.hpp's `contact_forces`, run on every min_force call)."""
+(the compiled reading is core/grasping/forces.hpp's `contact_forces`, run on every min_force
+call)."""
 import numpy as np
 
 from .._core.forces import LENGTH, READER_HEAD
 
-# rows of a wrench space's leaf table (graspforce.wrench_space.Target._table)
+# rows of a wrench space's leaf table (graspforce.grasping.wrench_space.Target._table)
 CONTACT, SLOT, SIZE, MAP = 0, 1, 2, 3
 
-# A Target's force reader (graspforce.wrench_space): how forces are read off witnesses, as one
-# float array read by offsets, since each array a min_force call hands to the compiled code costs
-# ~50 ns to cross from Python (a zero-wrench call 641 -> 398 ns with the six gathered here) and
-# each view of one costs reference counting. Layout: [witness size, linf, full, m, leaves L,
+# A Target's force reader (graspforce.grasping.wrench_space): how forces are read off witnesses, as
+# one float array read by offsets, since each array a min_force call hands to the compiled code
+# costs ~50 ns to cross from Python (a zero-wrench call 641 -> 398 ns with the six gathered here)
+# and each view of one costs reference counting. Layout: [witness size, linf, full, m, leaves L,
 # length, table (4, L) by rows CONTACT, SLOT, SIZE, MAP, G (m, 6, 4), spin_weight (m,), mu (m,),
 # mu_spin (m,), maps].
 def force_reader(witness_size, linf, full, G, table, maps, spin_weight, friction, length):

@@ -52,7 +52,7 @@ class RayShot:
     singular_steps counts the iterations in which the ray crossed the inner polytope through a
     face of dimension < n - 1: IE's facet-collection steps, ZC-IE's hand-overs to ZC-based
     iterations (section 3.2, 3.4.2); 0 for the other methods.
-    The arrays are views of the one array the compiled shooter filled (graspforce._packed),
+    The arrays are views of the one array the compiled shooter filled (graspforce.records._packed),
     taken when first read: a caller who needs only t pays for none of them. Read-only.
     """
 
@@ -198,7 +198,7 @@ class MinForce:
     the ray in the wrench set W found by ray shooting and t_upper from its supporting hyperplane,
     sigma = 1/t and sigma_lower = 1/t_upper (eq. 14 scales W by sigma; for Linf, t = m t' of
     the shot at W_Linf's lift, `shot`). Baselines report their solver's dual bound, or NaN when
-    it certifies none (graspforce.baselines).
+    it certifies none (graspforce.grasping.baselines).
     status: "optimal" (sigma / sigma_lower - 1 <= eps), "infeasible" (no forces in the cones
     resist w_ext: the wrench part n of `shot.normal` satisfies h_W(n) <= 0 < n^T r, a
     separating hyperplane),
@@ -208,7 +208,7 @@ class MinForce:
     force vectors in the world frame; wrenches: (m, 6) G_i f_i; resultant: sum of the wrenches.
     Infinite sigma and zero forces when infeasible. `shot` is the underlying RayShot.
     The force arrays of a ray-shooting answer are views of the one array the compiled code
-    filled (graspforce._packed), taken when first read; read-only.
+    filled (graspforce.records._packed), taken when first read; read-only.
     """
 
     # slots: min_force builds one record per call, and slot stores cost about half a dict's
@@ -223,8 +223,8 @@ class MinForce:
                                                                     sigma_lower)
         self.norm, self.magnitude, self.method = norm, magnitude, method
         self.iterations, self.support_calls = iterations, support_calls
-        # (W, w_ext, head, packed, extra, wrench space) (graspforce._packed; the space's length,
-        # Grasp.length, is the unit the shot at W was made in); None for a zero wrench or a
+        # (W, w_ext, head, packed, extra, wrench space) (graspforce.records._packed; the space's
+        # length, Grasp.length, is the unit the shot at W was made in); None for a zero wrench or a
         # baseline's answer
         self.ray = ray
         self._forces = (forces, world_forces, wrenches, resultant)
@@ -232,7 +232,7 @@ class MinForce:
     @classmethod
     def from_packed(cls, status, sigma, sigma_lower, norm, magnitude, method, ray, m):
         """The feasible answer of a ray shot whose packed array holds the forces of m contacts
-        (graspforce._forces); the arrays are read on first use."""
+        (graspforce.records._forces); the arrays are read on first use."""
         head = ray[2]
         record = cls.__new__(cls)
         record.feasible = True
@@ -267,8 +267,8 @@ class MinForce:
     def shot(self):
         """The RayShot that certifies this answer (built on first use; None for a zero wrench):
         on W(norm, magnitude) and R(-w_ext), or for Linf on W_Linf's lift C (R^(m + 5),
-        graspforce.wrench_space) and the ray (0, -w_ext), where sigma = 1 / (m t). The wrench
-        part u of the lift's normal (mu, u) is a normal of W_Linf: h_W(u) = sum_i h_Ai(u) <=
+        graspforce.grasping.wrench_space) and the ray (0, -w_ext), where sigma = 1 / (m t). The
+        wrench part u of the lift's normal (mu, u) is a normal of W_Linf: h_W(u) = sum_i h_Ai(u) <=
         m h_C(mu, u) since the lift's rows sum to zero, so u alone certifies sigma_lower (and a
         miss). The compiled shot is in the units (force, torque / L) (Grasp.length); here it is
         mapped back, its torque coordinates times L and its normal's divided by L (t, t_upper
@@ -381,7 +381,7 @@ class GrowthDistanceResult:
     uncertified, possibly inf; sigma_lower = 0, sigma_upper = inf). Coincident reference points:
     sigma = 0, "penetrating".
     point_a, point_b and normal are derived from Z_Delta(r) on first access (the derivation is
-    in the graspforce.growth docstring); coincident points or max_iter give point_a = p_A,
+    in graspforce.growth.growth's docstring); coincident points or max_iter give point_a = p_A,
     point_b = p_B and a zero normal. Never NaN.
     """
     sigma: float

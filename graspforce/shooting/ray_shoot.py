@@ -36,7 +36,7 @@ def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=10000):
 
     method: "gjk" (3.1), "ie" (3.2), "zc" (3.3), "bi-gjk" (3.4.1), "zc-ie" (3.4.2), or
     "zc-ie-newton": ZC-IE with a Newton finish on the pieces of the exit face
-    (core/newton.hpp; fewer iterations, answers exact to rounding).
+    (core/shooting/newton.hpp; fewer iterations, answers exact to rounding).
     eps: relative tolerance; every method stops once (h_A(n) - n^T z) <= eps n^T z, which
     bounds the relative error in t by eps (t_upper / t - 1 <= eps).
     max_iter: iteration limit; reaching it is the status "max_iter", never an exception. IE-type

@@ -22,10 +22,10 @@ b - A x in a cone:
     L1 full:     minimize sum_i tau_i,  (tau_i, D f_i) in SOC,  D = diag(1, 1, 1, mu/mu_s)
     Linf full:   minimize s,  (s, D f_i) in SOC              (eq. 15: ||f_i|| = ||D f_i||)
 The record's sigma is the objective of the returned forces; sigma_lower is Clarabel's dual
-objective when it reports Solved (a lower bound to its feasibility tolerance), else NaN. Status: Solved -> "optimal",
-AlmostSolved -> "inaccurate", (Almost)PrimalInfeasible -> "infeasible", MaxIterations and
-MaxTime -> "max_iter", anything else -> "inaccurate" with the last iterate (graspforce.baselines
-._status).
+objective when it reports Solved (a lower bound to its feasibility tolerance), else NaN. Status:
+Solved -> "optimal", AlmostSolved -> "inaccurate", (Almost)PrimalInfeasible -> "infeasible",
+MaxIterations and MaxTime -> "max_iter", anything else -> "inaccurate" with the last iterate
+(graspforce.grasping.baselines._status).
 """
 import numpy as np
 import scipy.sparse as sp
