@@ -242,20 +242,23 @@ inline bool small_solve(double* K, double* b, Int N) {
     return true;
 }
 
-// Whether the set is a hull of ellipsoid leaves in up to R^FAST_N, each with up to FAST_N columns:
-// a soft finger's W_L1, whose pieces the ellipsoid finish evaluates in closed form.
-inline bool ellipsoid_hull_set(IVec ints, Vec f, Int n) {
+// The column count shared by the leaves of a hull of ellipsoid leaves in up to R^FAST_N, each with
+// up to FAST_N columns (a soft finger's W_L1, whose pieces the ellipsoid finish evaluates in closed
+// form): 0 when their counts differ, -1 for any other set.
+inline Int ellipsoid_hull_columns(IVec ints, Vec f, Int n) {
     const Int nn = ints[0];
     const Blocks B = blocks(nn);
-    if (n > FAST_N || ints[B.KIND] != HULL) return false;
+    if (n > FAST_N || ints[B.KIND] != HULL) return -1;
     const Int c0 = B.CHILDREN + ints[B.CSTART];
+    Int cols = -1;
     for (Int c = 0; c < ints[B.CCOUNT]; ++c) {
         const Int leaf = ints[c0 + c];
-        if (ints[B.KIND + leaf] != ELLIPSOID ||
-            static_cast<Int>(f[ints[B.PSTART + leaf] + 1]) > FAST_N)
-            return false;
+        if (ints[B.KIND + leaf] != ELLIPSOID) return -1;
+        const Int kk = static_cast<Int>(f[ints[B.PSTART + leaf] + 1]);
+        if (kk > FAST_N) return -1;
+        cols = cols < 0 || cols == kk ? kk : 0;
     }
-    return true;
+    return cols;
 }
 
 // The root hull's child whose leaf the witness w flags with 1 (-1: none, or flat).
@@ -273,13 +276,17 @@ inline Int flagged_child(IVec ints, Vec w) {
 
 // The point z = c + S x, x = S^T u / ||S^T u||, of the ellipsoid leaf at f[p:] (n, k, c, S) in
 // direction u, into z and x; returns (h = c^T u + ||S^T u||, ||S^T u||), or rho 0 at its kink.
+// Sizes as ellipsoid_piece.
 struct EllipsePoint {
     double h;
     double rho;
 };
-inline EllipsePoint ellipsoid_at(Vec f, Int p, const double* u, Int n, double* z, double* x) {
+template <int FN = 0, int FK = 0>
+[[gnu::always_inline]] inline EllipsePoint ellipsoid_at(Vec f, Int p, const double* u, Int n_,
+                                                        double* z, double* x) {
     using piece_detail::KINK_TOL;
-    const Int kk = static_cast<Int>(f[p + 1]);
+    const Int n = FN > 0 ? FN : n_;
+    const Int kk = FK > 0 ? FK : static_cast<Int>(f[p + 1]);
     const Int s0 = p + 2 + n;
     double rho2 = 0.0, ss = 0.0, uu = 0.0, cu = 0.0;
     for (Int a = 0; a < n; ++a) {
@@ -324,11 +331,13 @@ inline NewtonOut ellipsoid_failed(double t, double t_up, double h, Int steps, In
 // x = S^T u / ||S^T u||, with the curvature (S S^T - (S x)(S x)^T) / ||S^T u||, on the stack.
 // Pieces drop and join as in the general path, and the answer is certified as there. nullopt
 // hands over to the general path: another set, a flat piece (the general path's test), a piece
-// at its kink, or a singular system.
-inline std::optional<NewtonOut> ellipsoid_finish(IVec ints, Vec f, Vec r, double eps, Mat Wt,
-                                                 Vec lam, Int k, Vec normal, double t) {
-    const Int n = r.n;
-    if (!ellipsoid_hull_set(ints, f, n)) return std::nullopt;
+// at its kink, or a singular system. Compiled for sizes FN, FK (soft fingers' (6, 3): the loops
+// unroll), or for any when they are 0.
+template <int FN = 0, int FK = 0>
+inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, double eps,
+                                                       Mat Wt, Vec lam, Int k, Vec normal,
+                                                       double t) {
+    const Int n = FN > 0 ? FN : r.n;
     const Blocks B = blocks(ints[0]);
     const Int ws = Wt.cols;
     Int leaf[FAST_N];
@@ -370,7 +379,7 @@ inline std::optional<NewtonOut> ellipsoid_finish(IVec ints, Vec f, Vec r, double
     // flat pieces (the general path's test; a piece of weight 0 by its vertices' plain mean)
     for (Int p = 0; p < m; ++p) {
         const Int pp = ints[B.PSTART + leaf[p]];
-        const Int kk = static_cast<Int>(f[pp + 1]);
+        const Int kk = FK > 0 ? FK : static_cast<Int>(f[pp + 1]);
         const Int s0 = pp + 2 + n;
         double tu = 0.0, tt = 0.0, x2 = 0.0;
         for (Int b = 0; b < kk; ++b) {
@@ -401,7 +410,8 @@ inline std::optional<NewtonOut> ellipsoid_finish(IVec ints, Vec f, Vec r, double
             return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
         for (Int p = 0; p < m; ++p) {
             const EllipsePoint e =
-                ellipsoid_at(f, ints[B.PSTART + leaf[p]], u, n, Z + p * FAST_N, X + p * FAST_N);
+                ellipsoid_at<FN, FK>(f, ints[B.PSTART + leaf[p]], u, n, Z + p * FAST_N,
+                                     X + p * FAST_N);
             // a piece at its kink turns flat: the general path's case
             if (e.rho == 0.0) return std::nullopt;
             hv[p] = e.h;
@@ -479,7 +489,7 @@ inline std::optional<NewtonOut> ellipsoid_finish(IVec ints, Vec f, Vec r, double
         }
         for (Int p = 0; p < m; ++p) {
             const Int pp = ints[B.PSTART + leaf[p]];
-            const Int kk = static_cast<Int>(f[pp + 1]);
+            const Int kk = FK > 0 ? FK : static_cast<Int>(f[pp + 1]);
             const Int s0 = pp + 2 + n;
             const double g = lm[p] / rho[p];
             for (Int a = 0; a < n; ++a) {
@@ -533,6 +543,16 @@ inline std::optional<NewtonOut> ellipsoid_finish(IVec ints, Vec f, Vec r, double
         converged = du <= STEP_TOL * un;
     }
     return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
+}
+
+// ellipsoid_finish_sized for the set's sizes (nullopt for a set it does not take)
+inline std::optional<NewtonOut> ellipsoid_finish(IVec ints, Vec f, Vec r, double eps, Mat Wt,
+                                                 Vec lam, Int k, Vec normal, double t) {
+    const Int cols = ellipsoid_hull_columns(ints, f, r.n);
+    if (cols < 0) return std::nullopt;
+    if (r.n == 6 && cols == 3)
+        return ellipsoid_finish_sized<6, 3>(ints, f, r, eps, Wt, lam, k, normal, t);
+    return ellipsoid_finish_sized(ints, f, r, eps, Wt, lam, k, normal, t);
 }
 
 }  // namespace newton_detail
