@@ -205,39 +205,44 @@ inline NewtonOut failed(double t, double t_up, double h, Int steps, Int calls, A
 constexpr Int FAST_N = 8;
 constexpr Int FAST_K = 2 * FAST_N + 1;   // unknowns u, lam, t
 
-// Solve K x = b (K (N, N) in FAST_K-strided rows, overwritten; x into b) by LU with partial
-// pivoting; false when a pivot is below 1e-14 of K's largest entry (lu_factor's test).
-inline bool small_solve(double* K, double* b, Int N) {
+// Solve K x = b (K (N, N) in FAST_K-strided rows, factored in lu) by LU with partial pivoting;
+// false when a pivot is below 1e-14 of K's largest entry (lu_factor's test).
+inline bool small_solve(const double* K, double* lu, const double* b, double* x, Int N) {
     double scale = 0.0;
-    for (Int i = 0; i < N; ++i)
-        for (Int j = 0; j < N; ++j) scale = std::max(scale, std::abs(K[i * FAST_K + j]));
+    for (Int i = 0; i < N; ++i) {
+        x[i] = b[i];
+        for (Int j = 0; j < N; ++j) {
+            lu[i * FAST_K + j] = K[i * FAST_K + j];
+            scale = std::max(scale, std::abs(K[i * FAST_K + j]));
+        }
+    }
     if (scale == 0.0) return false;
     for (Int c = 0; c < N; ++c) {
         Int p = c;
-        double best = std::abs(K[c * FAST_K + c]);
+        double best = std::abs(lu[c * FAST_K + c]);
         for (Int i = c + 1; i < N; ++i) {
-            if (std::abs(K[i * FAST_K + c]) > best) {
-                best = std::abs(K[i * FAST_K + c]);
+            if (std::abs(lu[i * FAST_K + c]) > best) {
+                best = std::abs(lu[i * FAST_K + c]);
                 p = i;
             }
         }
         if (best <= 1e-14 * scale) return false;
         if (p != c) {
-            for (Int j = c; j < N; ++j) std::swap(K[c * FAST_K + j], K[p * FAST_K + j]);
-            std::swap(b[c], b[p]);
+            for (Int j = c; j < N; ++j) std::swap(lu[c * FAST_K + j], lu[p * FAST_K + j]);
+            std::swap(x[c], x[p]);
         }
-        const double inv = 1.0 / K[c * FAST_K + c];
+        const double inv = 1.0 / lu[c * FAST_K + c];
         for (Int i = c + 1; i < N; ++i) {
-            const double g = K[i * FAST_K + c] * inv;
+            const double g = lu[i * FAST_K + c] * inv;
             if (g == 0.0) continue;
-            for (Int j = c + 1; j < N; ++j) K[i * FAST_K + j] -= g * K[c * FAST_K + j];
-            b[i] -= g * b[c];
+            for (Int j = c + 1; j < N; ++j) lu[i * FAST_K + j] -= g * lu[c * FAST_K + j];
+            x[i] -= g * x[c];
         }
     }
     for (Int i = N - 1; i >= 0; --i) {
-        double s = b[i];
-        for (Int j = i + 1; j < N; ++j) s -= K[i * FAST_K + j] * b[j];
-        b[i] = s / K[i * FAST_K + i];
+        double s = x[i];
+        for (Int j = i + 1; j < N; ++j) s -= lu[i * FAST_K + j] * x[j];
+        x[i] = s / lu[i * FAST_K + i];
     }
     return true;
 }
@@ -330,8 +335,8 @@ inline NewtonOut ellipsoid_failed(double t, double t_up, double h, Int steps, In
 // (h_p = 1 fixes u's scale, and u^T r = 1 / t follows), each piece z_p = c + S x,
 // x = S^T u / ||S^T u||, with the curvature (S S^T - (S x)(S x)^T) / ||S^T u||, on the stack.
 // Pieces drop and join as in the general path, and the answer is certified as there. nullopt
-// hands over to the general path: another set, a flat piece (the general path's test), a piece
-// at its kink, or a singular system. Compiled for sizes FN, FK (soft fingers' (6, 3): the loops
+// hands over to the general path: another set, a flat piece (the general path's test) or a piece
+// at its kink. Compiled for sizes FN, FK (soft fingers' (6, 3): the loops
 // unroll), or for any when they are 0.
 template <int FN = 0, int FK = 0>
 inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, double eps,
@@ -400,7 +405,11 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
     double hv[FAST_N];
     double rho[FAST_N];
     double K[FAST_K * FAST_K];
+    double lu[FAST_K * FAST_K];
+    double rhs[FAST_K];
     double dx[FAST_K];
+    Int prow[FAST_K];
+    Int pcol[FAST_K];
     Int steps = 0;
     Int calls = 0;
     Int changes = 0;
@@ -482,7 +491,7 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
         for (Int a = 0; a < n; ++a) {
             double F = -t * r[a];
             for (Int p = 0; p < m; ++p) F += lm[p] * Z[p * FAST_N + a];
-            dx[a] = -F;
+            rhs[a] = -F;
             for (Int a2 = 0; a2 < n; ++a2) K[a * FAST_K + a2] = 0.0;
             for (Int p = 0; p < m; ++p) K[a * FAST_K + n + p] = Z[p * FAST_N + a];
             K[a * FAST_K + n + m] = -r[a];
@@ -502,7 +511,7 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             }
             for (Int a = 0; a < n; ++a) K[(n + p) * FAST_K + a] = Z[p * FAST_N + a];
             for (Int c = n; c < N; ++c) K[(n + p) * FAST_K + c] = 0.0;
-            dx[n + p] = 1.0 - hv[p];
+            rhs[n + p] = 1.0 - hv[p];
         }
         for (Int a = 0; a < n; ++a)
             for (Int a2 = 0; a2 < a; ++a2) K[a * FAST_K + a2] = K[a2 * FAST_K + a];
@@ -513,9 +522,13 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             total += lm[p];
         }
         K[(n + m) * FAST_K + n + m] = 0.0;
-        dx[n + m] = 1.0 - total;
-        // singular (a normal cone wider than a ray): the general path's basic solutions
-        if (!small_solve(K, dx, N)) return std::nullopt;
+        rhs[n + m] = 1.0 - total;
+        // singular where the face's normal cone is wider than a ray (one soft finger's
+        // 3-D ellipsoid in R^6): a basic solution, as the general path's
+        if (!small_solve(K, lu, rhs, dx, N) &&
+            solve_basic(Mat{K, N, N, FAST_K}, N, Mat{lu, N, N, FAST_K}, IVec{prow, N},
+                        IVec{pcol, N}, Vec{rhs, N}, Vec{dx, N}) <= n)
+            return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
         steps += 1;
         double du = 0.0, un = 0.0;
         for (Int a = 0; a < n; ++a) {
