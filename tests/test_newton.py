@@ -8,8 +8,9 @@ import pytest
 
 import graspforce as gf
 from graspforce._core import support
-from graspforce._core.testing import (FLAT, basic_null_space, flat_columns, jacobian_size,
-                                      newton_finish, piece_support, same_piece, solve_basic)
+from graspforce._core.testing import (FLAT, basic_null_space, ellipsoid_finish, flat_columns,
+                                      jacobian_size, newton_finish, piece_support, same_piece,
+                                      solve_basic)
 
 import truth as T
 from conftest import random_rotation
@@ -197,6 +198,39 @@ def test_finish_on_soft_fingers_with_unsaturated_friction():
             _check_certificate(A, r, out, t_ref)
             finished += 1
     assert finished >= 17
+
+
+def test_ellipsoid_finish_on_soft_fingers_around_a_sphere():
+    """Four soft fingers around a sphere (benchmarks/families.py), every active contact's friction
+    saturated on most loads: the ellipsoid path takes the facet, and its answer is the SOCP's,
+    ZC-IE's within eps. A facet with a flat piece is handed over (False,)."""
+    from benchmarks.families import FAMILIES
+    rng = np.random.default_rng(21)
+    c = np.ascontiguousarray
+    taken = handed = finished = 0
+    for _ in range(3):
+        grasp, loads = FAMILIES["sphere-4"](rng, 15)
+        A = grasp.wrench_set("L1")
+        desc = T.hull(*[T.ell(e.center, e.shape) for e in A.sets])
+        ints, f = A.program
+        for w in loads:
+            r = c(-w, float)
+            res = gf.ray_shoot(A, r, method="ie", eps=1e-2)
+            out = ellipsoid_finish(ints, f, r, 1e-9, c(res.witness_rows), c(res.weights),
+                                   len(res.weights), c(res.normal), res.t)
+            if not out[0]:
+                handed += 1
+                continue
+            taken += 1
+            if not out[1]:
+                continue
+            finished += 1
+            t_ref = gf.ray_shoot(A, r, method="zc-ie", eps=1e-9).t
+            assert abs(out[2] - t_ref) <= 1e-9 * t_ref
+            t_socp = T.ray_shoot_socp(desc, r)[1]
+            assert abs(out[2] - t_socp) <= 1e-7 * t_socp
+            _check_certificate(A, r, out[1:], t_ref)
+    assert taken >= 30 and finished >= 0.9 * taken and handed >= 1
 
 
 @pytest.mark.parametrize("case", ["side", "rim", "base"])

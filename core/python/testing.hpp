@@ -162,6 +162,20 @@ inline nb::tuple newton_finish(I1 ints, F1 f, In1 r, double eps, In2 P, In2 Wt, 
                           numpy(std::move(o.weights)), numpy(std::move(o.W)));
 }
 
+// newton_finish's ellipsoid path alone: (taken, then newton_finish's tuple when taken)
+inline nb::tuple ellipsoid_finish(I1 ints, F1 f, In1 r, double eps, In2 Wt, In1 lam, Int k,
+                                  In1 normal, double t) {
+    const Int n = root_dim(ints);
+    require(len(r) == n && len(normal) == n, "r, normal: expected the set's dimension");
+    require(rows(Wt) >= k && len(lam) >= k && k >= 0, "Wt, lam: fewer than k rows");
+    std::optional<gf::NewtonOut> o = gf::newton_detail::ellipsoid_finish(
+        ivec(ints), vec(f), vec(r), eps, mat(Wt), vec(lam), k, vec(normal), t);
+    if (!o) return nb::make_tuple(false);
+    return nb::make_tuple(true, o->ok, o->t, o->t_up, o->h, o->m, o->steps, o->calls,
+                          numpy(std::move(o->normal)), numpy(std::move(o->V)),
+                          numpy(std::move(o->weights)), numpy(std::move(o->W)));
+}
+
 // ---- zc_family.hpp, bi_gjk.hpp: single steps ---------------------------------------------
 
 inline void matvec(In2 B, Int n, In1 x, F1 out) {
@@ -316,6 +330,10 @@ inline void bind_testing(nanobind::module_& m) {
           "eps"_a, "P"_a, "Wt"_a, "lam"_a, "k"_a, "normal"_a, "t"_a, "corner"_a,
           "The Newton finish from the simplex P[:k]: (ok, t, t_upper, h_n, m, newton_steps, "
           "support_calls, normal, V, weights, W).");
+    t.def("ellipsoid_finish", &T::ellipsoid_finish, "ints"_a.noconvert(), "f"_a.noconvert(),
+          "r"_a, "eps"_a, "Wt"_a, "lam"_a, "k"_a, "normal"_a, "t"_a,
+          "newton_finish's path for hulls of smooth ellipsoid pieces: (False,) when it hands "
+          "over to the general path, else (True, newton_finish's tuple).");
 
     t.attr("ZC_ONLY") = gf::ZC_ONLY;
     t.attr("WITH_IE") = gf::WITH_IE;

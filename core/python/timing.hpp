@@ -165,6 +165,40 @@ inline std::tuple<nb::object, double> shoot_loop(I1 ints, F1 floats, In2 R, std:
     return {numpy(std::move(ns)), total};
 }
 
+// (ns per call in each pass (passes,), sum of t over all calls): newton_finish from one simplex,
+// `repeats` calls per pass timed as one block. Every call reads the same inputs (newton_finish
+// writes only the program's scratch).
+inline std::tuple<nb::object, double> newton_loop(I1 ints, F1 floats, F1 r, double eps, F1 P,
+                                                  F1 Wt, F1 lam, std::int64_t k, F1 normal,
+                                                  double t, bool corner, std::int64_t passes,
+                                                  std::int64_t repeats) {
+    check_positive(passes, "passes");
+    check_positive(repeats, "repeats");
+    const gf::Int n = root_dim(ints);
+    if (static_cast<gf::Int>(r.shape(0)) != n || static_cast<gf::Int>(normal.shape(0)) != n)
+        throw nb::value_error("r, normal: expected the program's dimension");
+    if (k < 1 || static_cast<std::int64_t>(lam.shape(0)) < k ||
+        static_cast<std::int64_t>(P.shape(0)) < k * n || Wt.shape(0) % k != 0)
+        throw nb::value_error("P, Wt, lam: expected k rows each, flattened");
+    const auto ws = static_cast<gf::Int>(Wt.shape(0)) / k;
+    gf::Array ns(passes);
+    double total = 0.0;
+    {
+        nb::gil_scoped_release nogil;
+        const gf::Mat Pm{P.data(), k, n, n};
+        const gf::Mat Wm{Wt.data(), k, ws, ws};
+        for (std::int64_t p = 0; p < passes; ++p) {
+            const Clock::time_point t0 = Clock::now();
+            for (std::int64_t i = 0; i < repeats; ++i)
+                total += gf::newton_finish(ivec(ints), vec(floats), vec(r), eps, Pm, Wm,
+                                           vec(lam), k, vec(normal), t, corner)
+                             .t;
+            ns.data[static_cast<size_t>(p)] = ns_since(t0) / static_cast<double>(repeats);
+        }
+    }
+    return {numpy(std::move(ns)), total};
+}
+
 }  // namespace gf_timing
 
 inline void bind_timing(nanobind::module_& m) {
@@ -202,4 +236,10 @@ inline void bind_timing(nanobind::module_& m) {
           "R"_a.noconvert(), "ws"_a, "method"_a, "eps"_a, "max_iter"_a, "passes"_a,
           "shoot (no start table) along each row of R, `passes` times over: (ns of each shot "
           "(passes, k), sum of t).");
+    t.def("newton_loop", &gf_timing::newton_loop, "ints"_a.noconvert(),
+          "floats"_a.noconvert(), "r"_a.noconvert(), "eps"_a, "P"_a.noconvert(),
+          "Wt"_a.noconvert(), "lam"_a.noconvert(), "k"_a, "normal"_a.noconvert(), "t"_a,
+          "corner"_a, "passes"_a, "repeats"_a,
+          "newton_finish from the simplex P[:k] (P, Wt flattened), `repeats` calls a pass: "
+          "(ns per call in each pass, sum of t).");
 }

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <optional>
+
 #include "api.hpp"
 #include "geometry/piece.hpp"
 
@@ -197,6 +199,375 @@ inline NewtonOut failed(double t, double t_up, double h, Int steps, Int calls, A
             std::move(WS)};
 }
 
+
+// The ellipsoid finish's limits: stack arrays for sets in up to R^FAST_N whose pieces' shapes have
+// up to FAST_N columns
+constexpr Int FAST_N = 8;
+constexpr Int FAST_K = 2 * FAST_N + 1;   // unknowns u, lam, t
+
+// Solve K x = b (K (N, N) in FAST_K-strided rows, factored in lu) by LU with partial pivoting;
+// false when a pivot is below 1e-14 of K's largest entry (lu_factor's test).
+inline bool small_solve(const double* K, double* lu, const double* b, double* x, Int N) {
+    double scale = 0.0;
+    for (Int i = 0; i < N; ++i) {
+        x[i] = b[i];
+        for (Int j = 0; j < N; ++j) {
+            lu[i * FAST_K + j] = K[i * FAST_K + j];
+            scale = std::max(scale, std::abs(K[i * FAST_K + j]));
+        }
+    }
+    if (scale == 0.0) return false;
+    for (Int c = 0; c < N; ++c) {
+        Int p = c;
+        double best = std::abs(lu[c * FAST_K + c]);
+        for (Int i = c + 1; i < N; ++i) {
+            if (std::abs(lu[i * FAST_K + c]) > best) {
+                best = std::abs(lu[i * FAST_K + c]);
+                p = i;
+            }
+        }
+        if (best <= 1e-14 * scale) return false;
+        if (p != c) {
+            for (Int j = c; j < N; ++j) std::swap(lu[c * FAST_K + j], lu[p * FAST_K + j]);
+            std::swap(x[c], x[p]);
+        }
+        const double inv = 1.0 / lu[c * FAST_K + c];
+        for (Int i = c + 1; i < N; ++i) {
+            const double g = lu[i * FAST_K + c] * inv;
+            if (g == 0.0) continue;
+            for (Int j = c + 1; j < N; ++j) lu[i * FAST_K + j] -= g * lu[c * FAST_K + j];
+            x[i] -= g * x[c];
+        }
+    }
+    for (Int i = N - 1; i >= 0; --i) {
+        double s = x[i];
+        for (Int j = i + 1; j < N; ++j) s -= lu[i * FAST_K + j] * x[j];
+        x[i] = s / lu[i * FAST_K + i];
+    }
+    return true;
+}
+
+// The column count shared by the leaves of a hull of ellipsoid leaves in up to R^FAST_N, each with
+// up to FAST_N columns (a soft finger's W_L1, whose pieces the ellipsoid finish evaluates in closed
+// form): 0 when their counts differ, -1 for any other set.
+inline Int ellipsoid_hull_columns(IVec ints, Vec f, Int n) {
+    const Int nn = ints[0];
+    const Blocks B = blocks(nn);
+    if (n > FAST_N || ints[B.KIND] != HULL) return -1;
+    const Int c0 = B.CHILDREN + ints[B.CSTART];
+    Int cols = -1;
+    for (Int c = 0; c < ints[B.CCOUNT]; ++c) {
+        const Int leaf = ints[c0 + c];
+        if (ints[B.KIND + leaf] != ELLIPSOID) return -1;
+        const Int kk = static_cast<Int>(f[ints[B.PSTART + leaf] + 1]);
+        if (kk > FAST_N) return -1;
+        cols = cols < 0 || cols == kk ? kk : 0;
+    }
+    return cols;
+}
+
+// The root hull's child whose leaf the witness w flags with 1 (-1: none, or flat).
+inline Int flagged_child(IVec ints, Vec w) {
+    const Int nn = ints[0];
+    const Blocks B = blocks(nn);
+    const Int c0 = B.CHILDREN + ints[B.CSTART];
+    for (Int c = 0; c < ints[B.CCOUNT]; ++c) {
+        const Int leaf = ints[c0 + c];
+        const double flag = w[ints[B.WSTART + leaf]];
+        if (flag != 0.0) return flag == 1.0 ? leaf : -1;
+    }
+    return -1;
+}
+
+// The point z = c + S x, x = S^T u / ||S^T u||, of the ellipsoid leaf at f[p:] (n, k, c, S) in
+// direction u, into z and x; returns (h = c^T u + ||S^T u||, ||S^T u||), or rho 0 at its kink.
+// Sizes as ellipsoid_piece.
+struct EllipsePoint {
+    double h;
+    double rho;
+};
+template <int FN = 0, int FK = 0>
+[[gnu::always_inline]] inline EllipsePoint ellipsoid_at(Vec f, Int p, const double* u, Int n_,
+                                                        double* z, double* x) {
+    using piece_detail::KINK_TOL;
+    const Int n = FN > 0 ? FN : n_;
+    const Int kk = FK > 0 ? FK : static_cast<Int>(f[p + 1]);
+    const Int s0 = p + 2 + n;
+    double rho2 = 0.0, ss = 0.0, uu = 0.0, cu = 0.0;
+    for (Int a = 0; a < n; ++a) {
+        uu += u[a] * u[a];
+        cu += f[p + 2 + a] * u[a];
+    }
+    for (Int b = 0; b < kk; ++b) {
+        double y = 0.0;
+        for (Int a = 0; a < n; ++a) {
+            y += f[s0 + a * kk + b] * u[a];
+            ss += f[s0 + a * kk + b] * f[s0 + a * kk + b];
+        }
+        x[b] = y;
+        rho2 += y * y;
+    }
+    if (rho2 <= KINK_TOL * KINK_TOL * ss * uu) return {cu, 0.0};
+    const double rho = std::sqrt(rho2);
+    const double inv = 1.0 / rho;
+    for (Int b = 0; b < kk; ++b) x[b] *= inv;
+    for (Int a = 0; a < n; ++a) {
+        double s = f[p + 2 + a];
+        for (Int b = 0; b < kk; ++b) s += f[s0 + a * kk + b] * x[b];
+        z[a] = s;
+    }
+    return {cu + rho, rho};
+}
+
+// newton_finish's answer when it gives up, for a set in R^n and witnesses of ws entries
+inline NewtonOut ellipsoid_failed(double t, double t_up, double h, Int steps, Int calls, Int n,
+                                  Int ws) {
+    return {false, t, t_up, h, 0, steps, calls, Array(n), Array(n + 1, n), Array(n + 1),
+            Array(n + 1, ws)};
+}
+
+// newton_finish on a hull of ellipsoid leaves (a soft finger's W_L1) whose exit face's pieces
+// are all smooth: the KKT system of the header comment without tau, flat leaves and the tree
+// walk, in the unknowns u, lam, t,
+//
+//     sum_p lam_p z_p(u) = t r,   h_p(u) = 1 (each p),   sum_p lam_p = 1,
+//
+// (h_p = 1 fixes u's scale, and u^T r = 1 / t follows), each piece z_p = c + S x,
+// x = S^T u / ||S^T u||, with the curvature (S S^T - (S x)(S x)^T) / ||S^T u||, on the stack.
+// Pieces drop and join as in the general path, and the answer is certified as there. nullopt
+// hands over to the general path: another set, a flat piece (the general path's test) or a piece
+// at its kink. Compiled for sizes FN, FK (soft fingers' (6, 3): the loops
+// unroll), or for any when they are 0.
+template <int FN = 0, int FK = 0>
+inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, double eps,
+                                                       Mat Wt, Vec lam, Int k, Vec normal,
+                                                       double t) {
+    const Int n = FN > 0 ? FN : r.n;
+    const Blocks B = blocks(ints[0]);
+    const Int ws = Wt.cols;
+    Int leaf[FAST_N];
+    double lm[FAST_N + 1];
+    double xw[FAST_N * FAST_N];   // per piece: the weighted sum of its vertices' x
+    double xs[FAST_N * FAST_N];   // and their plain sum
+    Int count[FAST_N];
+    Int m = 0;
+    for (Int j = 0; j < k; ++j) {
+        const Int l = flagged_child(ints, Wt.row(j));
+        if (l < 0) return std::nullopt;
+        Int p = 0;
+        while (p < m && leaf[p] != l) ++p;
+        const Int kk = static_cast<Int>(f[ints[B.PSTART + l] + 1]);
+        if (p == m) {
+            if (m == n) return std::nullopt;
+            leaf[m] = l;
+            lm[m] = 0.0;
+            count[m] = 0;
+            for (Int b = 0; b < kk; ++b) xw[m * FAST_N + b] = xs[m * FAST_N + b] = 0.0;
+            m += 1;
+        }
+        const Int w = ints[B.WSTART + l];
+        lm[p] += lam[j];
+        count[p] += 1;
+        for (Int b = 0; b < kk; ++b) {
+            xw[p * FAST_N + b] += lam[j] * Wt(j, w + 1 + b);
+            xs[p * FAST_N + b] += Wt(j, w + 1 + b);
+        }
+    }
+    const double nr = dot(normal, r);
+    if (!(nr > 0.0) || !(t > 0.0)) return std::nullopt;
+    double u[FAST_N];
+    double uu = 0.0;
+    for (Int i = 0; i < n; ++i) {
+        u[i] = normal[i] / (t * nr);
+        uu += u[i] * u[i];
+    }
+    // flat pieces (the general path's test; a piece of weight 0 by its vertices' plain mean)
+    for (Int p = 0; p < m; ++p) {
+        const Int pp = ints[B.PSTART + leaf[p]];
+        const Int kk = FK > 0 ? FK : static_cast<Int>(f[pp + 1]);
+        const Int s0 = pp + 2 + n;
+        double tu = 0.0, tt = 0.0, x2 = 0.0;
+        for (Int b = 0; b < kk; ++b) {
+            double s = 0.0;
+            for (Int a = 0; a < n; ++a) {
+                s += f[s0 + a * kk + b] * u[a];
+                tt += f[s0 + a * kk + b] * f[s0 + a * kk + b];
+            }
+            tu += s * s;
+            const double xb = lm[p] > 0.0 ? xw[p * FAST_N + b] / lm[p]
+                                          : xs[p * FAST_N + b] / static_cast<double>(count[p]);
+            x2 += xb * xb;
+        }
+        if (tu <= FLAT_RHO * FLAT_RHO * uu * tt || x2 < FLAT_SPREAD) return std::nullopt;
+    }
+    double Z[FAST_N * FAST_N];   // the pieces' points, by row
+    double X[FAST_N * FAST_N];   // their x
+    double hv[FAST_N];
+    double rho[FAST_N];
+    double K[FAST_K * FAST_K];
+    double lu[FAST_K * FAST_K];
+    double rhs[FAST_K];
+    double dx[FAST_K];
+    Int prow[FAST_K];
+    Int pcol[FAST_K];
+    Int steps = 0;
+    Int calls = 0;
+    Int changes = 0;
+    bool converged = false;
+    while (steps < NEWTON_STEPS) {
+        if (m < 1 || changes > MAX_CHANGES)
+            return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
+        for (Int p = 0; p < m; ++p) {
+            const EllipsePoint e =
+                ellipsoid_at<FN, FK>(f, ints[B.PSTART + leaf[p]], u, n, Z + p * FAST_N,
+                                     X + p * FAST_N);
+            // a piece at its kink turns flat: the general path's case
+            if (e.rho == 0.0) return std::nullopt;
+            hv[p] = e.h;
+            rho[p] = e.rho;
+        }
+        if (converged) {
+            // certify as the general path: weights re-solved on the points, the full support
+            Array S(n + 1, n);
+            Array WS(n + 1, ws);
+            Array lmA(n + 1);
+            Array nrmA(n);
+            Array witA(ws);
+            const Mat Sm = S.mat();
+            const Vec lv = lmA.vec();
+            for (Int p = 0; p < m; ++p) {
+                const Int w = ints[B.WSTART + leaf[p]];
+                for (Int i = 0; i < n; ++i) Sm(p, i) = Z[p * FAST_N + i];
+                WS.mat()(p, w) = 1.0;
+                for (Int b = 0; b < static_cast<Int>(f[ints[B.PSTART + leaf[p]] + 1]); ++b)
+                    WS.mat()(p, w + 1 + b) = X[p * FAST_N + b];
+            }
+            double D[FAST_N * (FAST_N + 1)];
+            double work[FAST_N * (FAST_N + 1)];
+            double wrhs[FAST_N];
+            double rhs[FAST_N];
+            double point[FAST_N];
+            const double tz = weights_on_ray(Sm, m, r, lv, Mat{D, n, m, m}, Mat{work, n, m, m},
+                                             Vec{wrhs, n}, Vec{rhs, n});
+            if (tz <= 0.0 || smallest(lv, m) < -1e-12)
+                return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
+            for (Int i = 0; i < n; ++i) point[i] = tz * r[i];
+            const Vec pv{point, n};
+            if (!reproduce(Sm, lv, m, pv))
+                return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
+            double ur = 0.0;
+            uu = 0.0;
+            for (Int i = 0; i < n; ++i) {
+                ur += u[i] * r[i];
+                uu += u[i] * u[i];
+            }
+            if (!(ur > 0.0)) return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
+            const Vec nrm = nrmA.vec();
+            const double un = std::sqrt(uu);
+            for (Int i = 0; i < n; ++i) nrm[i] = u[i] / un;
+            const double h_full = support(ints, f, nrm, pv, witA.vec());
+            calls += 1;
+            const double t_up = h_full / dot(nrm, r);
+            if (t_up - tz <= eps * tz && t_up >= tz * (1.0 - face_rounding(Sm, m, h_full)))
+                return NewtonOut{true,  tz,    std::max(t_up, tz), h_full,
+                                 m,     steps, calls,              std::move(nrmA),
+                                 std::move(S), std::move(lmA),     std::move(WS)};
+            // a piece the system did not hold sticks out at u: it joins with weight 0
+            const Int l = flagged_child(ints, witA.vec());
+            Int p = 0;
+            while (p < m && leaf[p] != l) ++p;
+            if (l < 0 || p < m || m == n)
+                return ellipsoid_failed(t, t_up, h_full, steps, calls, n, ws);
+            for (Int q = 0; q < m; ++q) lm[q] = lv[q];
+            leaf[m] = l;
+            lm[m] = 0.0;
+            m += 1;
+            changes += 1;
+            converged = false;
+            continue;
+        }
+        // the Newton step: [[sum lam_p H_p, Z^T, -r], [Z, 0, 0], [0, 1^T, 0]]
+        const Int N = n + m + 1;
+        for (Int a = 0; a < n; ++a) {
+            double F = -t * r[a];
+            for (Int p = 0; p < m; ++p) F += lm[p] * Z[p * FAST_N + a];
+            rhs[a] = -F;
+            for (Int a2 = 0; a2 < n; ++a2) K[a * FAST_K + a2] = 0.0;
+            for (Int p = 0; p < m; ++p) K[a * FAST_K + n + p] = Z[p * FAST_N + a];
+            K[a * FAST_K + n + m] = -r[a];
+        }
+        for (Int p = 0; p < m; ++p) {
+            const Int pp = ints[B.PSTART + leaf[p]];
+            const Int kk = FK > 0 ? FK : static_cast<Int>(f[pp + 1]);
+            const Int s0 = pp + 2 + n;
+            const double g = lm[p] / rho[p];
+            for (Int a = 0; a < n; ++a) {
+                const double sxa = Z[p * FAST_N + a] - f[pp + 2 + a];
+                for (Int a2 = a; a2 < n; ++a2) {
+                    double v = -sxa * (Z[p * FAST_N + a2] - f[pp + 2 + a2]);
+                    for (Int b = 0; b < kk; ++b) v += f[s0 + a * kk + b] * f[s0 + a2 * kk + b];
+                    K[a * FAST_K + a2] += g * v;
+                }
+            }
+            for (Int a = 0; a < n; ++a) K[(n + p) * FAST_K + a] = Z[p * FAST_N + a];
+            for (Int c = n; c < N; ++c) K[(n + p) * FAST_K + c] = 0.0;
+            rhs[n + p] = 1.0 - hv[p];
+        }
+        for (Int a = 0; a < n; ++a)
+            for (Int a2 = 0; a2 < a; ++a2) K[a * FAST_K + a2] = K[a2 * FAST_K + a];
+        double total = 0.0;
+        for (Int a = 0; a < n; ++a) K[(n + m) * FAST_K + a] = 0.0;
+        for (Int p = 0; p < m; ++p) {
+            K[(n + m) * FAST_K + n + p] = 1.0;
+            total += lm[p];
+        }
+        K[(n + m) * FAST_K + n + m] = 0.0;
+        rhs[n + m] = 1.0 - total;
+        // singular where the face's normal cone is wider than a ray (one soft finger's
+        // 3-D ellipsoid in R^6): a basic solution, as the general path's
+        if (!small_solve(K, lu, rhs, dx, N) &&
+            solve_basic(Mat{K, N, N, FAST_K}, N, Mat{lu, N, N, FAST_K}, IVec{prow, N},
+                        IVec{pcol, N}, Vec{rhs, N}, Vec{dx, N}) <= n)
+            return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
+        steps += 1;
+        double du = 0.0, un = 0.0;
+        for (Int a = 0; a < n; ++a) {
+            u[a] += dx[a];
+            du = std::max(du, std::abs(dx[a]));
+            un = std::max(un, std::abs(u[a]));
+        }
+        Int worst = -1;
+        for (Int p = 0; p < m; ++p) {
+            lm[p] += dx[n + p];
+            if (lm[p] <= 0.0 && (worst < 0 || lm[p] < lm[worst])) worst = p;
+        }
+        t += dx[n + m];
+        if (worst >= 0) {
+            // not a piece of the exit face: its weight would be negative
+            for (Int p = worst; p < m - 1; ++p) {
+                leaf[p] = leaf[p + 1];
+                lm[p] = lm[p + 1];
+            }
+            m -= 1;
+            changes += 1;
+            converged = false;
+            continue;
+        }
+        converged = du <= STEP_TOL * un;
+    }
+    return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
+}
+
+// ellipsoid_finish_sized for the set's sizes (nullopt for a set it does not take)
+inline std::optional<NewtonOut> ellipsoid_finish(IVec ints, Vec f, Vec r, double eps, Mat Wt,
+                                                 Vec lam, Int k, Vec normal, double t) {
+    const Int cols = ellipsoid_hull_columns(ints, f, r.n);
+    if (cols < 0) return std::nullopt;
+    if (r.n == 6 && cols == 3)
+        return ellipsoid_finish_sized<6, 3>(ints, f, r, eps, Wt, lam, k, normal, t);
+    return ellipsoid_finish_sized(ints, f, r, eps, Wt, lam, k, normal, t);
+}
+
 }  // namespace newton_detail
 
 // Try to finish a shot from the simplex P[:k] (witnesses Wt, weights lam: t r is their convex
@@ -211,9 +582,16 @@ inline NewtonOut failed(double t, double t_up, double h, Int steps, Int calls, A
 // space so that u (u^T r = 1) stays shortest: the normal that bounds t best. (Two contacts,
 // wrenches on the edge of what they resist: the plain steps finish some two-point-contact cases,
 // the corner steps the others, and three-term corners where the plain steps fail.)
+//
+// Plain steps on a hull of ellipsoid leaves whose exit face's pieces are all smooth (soft fingers
+// whose friction saturates) take `ellipsoid_finish`: the same answer for half the cost.
 NewtonOut newton_finish(IVec ints, Vec f, Vec r, double eps, Mat P, Mat Wt, Vec lam, Int k,
                         Vec normal, double t, bool corner) {
     using namespace newton_detail;
+    if (!corner) {
+        std::optional<NewtonOut> fast = ellipsoid_finish(ints, f, r, eps, Wt, lam, k, normal, t);
+        if (fast) return std::move(*fast);
+    }
     const Int n = r.n;
     const Int ws = Wt.cols;
     const Int nn = ints[0];
