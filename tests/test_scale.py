@@ -227,9 +227,12 @@ def test_grasp_length_default_and_given():
     assert given.length == 0.3
     w = np.array([0.3, -1.0, 2.0, 0.05, -0.1, 0.02])
     assert given.min_force(w).sigma == pytest.approx(grasp.min_force(w).sigma, rel=2e-9)
-    for bad in (0.0, -1.0, math.inf, math.nan):
+    for bad in (0.0, -1.0, math.inf, math.nan, 5e-324, 1e-300, 0.125e-6 / 1.01, 0.125e6 * 1.01,
+                1e300):
         with pytest.raises(ValueError, match="length"):
             gf.Grasp(grasp.contacts, length=bad)
+    for good in (0.125e-6, 0.125e6):
+        assert gf.Grasp(grasp.contacts, length=good).length == good
 
 
 def growth_pairs():

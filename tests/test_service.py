@@ -303,6 +303,8 @@ MALFORMED = [
     ("zero length", FORCE, {**FO, "length": 0.0}, 422, ("length",), "greater than 0"),
     ("negative length", BATCH, {"contacts": EX, "wrenches": [FO["w_ext"]], "length": -1.0}, 422,
      ("length",), "greater than 0"),
+    ("subnormal length", BATCH, {"contacts": EX, "wrenches": [FO["w_ext"]], "length": 5e-324},
+     422, ("length",), "within a factor"),
     ("length as a string", CLOSURE, {"contacts": EX, "length": "1 m"}, 422, ("length",),
      "valid number"),
     ("missing contacts", FORCE, {"w_ext": FO["w_ext"]}, 422, ("contacts",), "Field required"),

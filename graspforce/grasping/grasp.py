@@ -14,6 +14,11 @@ from .wrench_space import (MAGNITUDES, NORMS, WrenchSpace, contact_matrices, con
                            grasp_values)
 
 
+# a given length may differ from the contacts' own by at most this factor: far outside it, the
+# torques over it overflow or vanish against the forces, and the tolerances mean nothing
+LENGTH_RANGE = 1e6
+
+
 class Grasp:
     """m contacts on one object (a hand's fingertips, a robot's feet), in one frame.
 
@@ -21,9 +26,10 @@ class Grasp:
     the frame's origin); contact_matrices: the G_i stacked, (m, 6, 4). Wrench sets are built on
     first use and cached per (norm, magnitude).
 
-    length: the grasp's characteristic length L (> 0, in the unit of the positions): min_force
-    shoots the wrench set in the units (force, torque / L), where its tolerances hold whatever
-    the unit of length (docs/grasp-api.md, "Units"). By default the power of two nearest to 2
+    length: the grasp's characteristic length L (in the unit of the positions, within a factor
+    LENGTH_RANGE of the default): min_force shoots the wrench set in the units (force,
+    torque / L), where its tolerances hold whatever the unit of length (docs/grasp-api.md,
+    "Units"). By default the power of two nearest to 2
     times the RMS over the contacts of sqrt(|p_i|^2 + mu_si^2), their lever arms about the
     frame's origin (1 if all are 0): a power of two scales without rounding, and the factor 2 is
     measured (docs/design.md, "The unit of length").
@@ -37,8 +43,13 @@ class Grasp:
             if not isinstance(c, Contact):
                 raise TypeError(f"contacts: expected gf.Contact, got {type(c).__name__}")
         self.contacts = contacts
-        if length is not None and not (type(length) is float and 0.0 < length < math.inf):
-            length = finite_scalar(length, "length", minimum=0.0, exclusive=True)
+        if length is not None:
+            if not (type(length) is float and 0.0 < length < math.inf):
+                length = finite_scalar(length, "length", minimum=0.0, exclusive=True)
+            own = self._own_length()
+            if not own / LENGTH_RANGE <= length <= own * LENGTH_RANGE:
+                raise ValueError(f"length: must be within a factor {LENGTH_RANGE:g} of the "
+                                 f"contacts' own length {own:g} (the default), got {length!r}")
         self._length = length
         # what the wrench sets are made of, G_i first
         # (graspforce.grasping.wrench_space.grasp_values): one array for all, from the entries each
@@ -59,15 +70,19 @@ class Grasp:
     def length(self):
         """The characteristic length L (class docstring), derived on first read if not given."""
         if self._length is None:
-            arms = 0.0
-            for c in self.contacts:
-                x, y, z = c.position.tolist()       # floats: ~3x faster than numpy's dot here
-                arms += x * x + y * y + z * z + c.mu_spin * c.mu_spin
-            self._length = 1.0
-            if arms > 0.0:
-                fraction, exponent = math.frexp(2.0 * math.sqrt(arms / len(self.contacts)))
-                self._length = math.ldexp(1.0, exponent - (fraction < math.sqrt(0.5)))
+            self._length = self._own_length()
         return self._length
+
+    def _own_length(self):
+        """The default length (class docstring) of these contacts."""
+        arms = 0.0
+        for c in self.contacts:
+            x, y, z = c.position.tolist()       # floats: ~3x faster than numpy's dot here
+            arms += x * x + y * y + z * z + c.mu_spin * c.mu_spin
+        if arms == 0.0:
+            return 1.0
+        fraction, exponent = math.frexp(2.0 * math.sqrt(arms / len(self.contacts)))
+        return math.ldexp(1.0, exponent - (fraction < math.sqrt(0.5)))
 
     @property
     def contact_matrices(self):
