@@ -16,7 +16,8 @@ if [ ${#tests[@]} -eq 0 ]; then
            tests/test_closest_point.py tests/test_cone_distance.py tests/test_ray_shoot.py
            tests/test_degenerate.py tests/test_start_table.py tests/test_linf_lift.py
            tests/test_grasp_forces.py tests/test_growth.py tests/test_certificates.py
-           tests/test_determinism.py tests/test_threads.py tests/test_batch.py)
+           tests/test_determinism.py tests/test_threads.py tests/test_batch.py
+           tests/test_span.py tests/test_scale.py tests/test_fresh.py tests/test_contact.py)
 fi
 # Python itself is not built with the sanitizers: its allocations are not tracked for leaks
 LD_PRELOAD="$(gcc -print-file-name=libasan.so):$(gcc -print-file-name=libubsan.so)" \
