@@ -32,20 +32,17 @@ Accuracy: every feasible sigma against Clarabel with tight tolerances (relative)
 loads whose feasibility differs. Writes benchmarks/results/families.md.
 """
 import argparse
-import gc
 import math
 import os
 import sys
-import time
 
 import numpy as np
 
 import graspforce as gf
 from benchmarks.grasp_sets import ingot_grasp, random_wrenches
-from benchmarks.ray_shoot import _cpu_name, core_description
+from benchmarks.ray_shoot import _cpu_name, _timed_passes, core_description
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-PASSES = 3
 GRAVITY = np.array([0.0, 0.0, -9.81])
 LAYOUTS = {                                 # unit directions of the fingers before the turn
     3: [(math.cos(a), math.sin(a), 0.0) for a in np.deg2rad([0.0, 120.0, 240.0])],
@@ -151,28 +148,6 @@ def limit_loads(grasp, base, scale, rng, k, blind=None):
     return np.array(loads)
 
 
-def timed(fn, loads):
-    """(least-of-passes ns, first-pass ns, first-pass results) per load, after a warm-up pass."""
-    for w in loads:
-        fn(w)
-    times = np.empty((PASSES, len(loads)), dtype=np.int64)
-    out = []
-    gc_was_on = gc.isenabled()
-    gc.disable()
-    try:
-        for p in range(PASSES):
-            for j, w in enumerate(loads):
-                t0 = time.perf_counter_ns()
-                res = fn(w)
-                times[p, j] = time.perf_counter_ns() - t0
-                if p == 0:
-                    out.append(res)
-    finally:
-        if gc_was_on:
-            gc.enable()
-    return times.min(axis=0), times[0], out
-
-
 def run_family(name, grasps, loads, method, eps, log):
     from graspforce.grasping.baselines import clarabel_socp
     rng = np.random.default_rng(sum(map(ord, name)))
@@ -182,9 +157,11 @@ def run_family(name, grasps, loads, method, eps, log):
     for norm in ("L1", "Linf"):
         ours_t, ours_1, iters, base_t, rel, disagree, feasible, statuses = [], [], [], [], [], 0, 0, {}
         for grasp, ws in cases:
-            t, t1, res = timed(lambda w: grasp.min_force(w, norm, method=method, eps=eps), ws)
+            times, res = _timed_passes(
+                lambda w: grasp.min_force(w, norm, method=method, eps=eps), ws)
+            t, t1 = times.min(axis=0), times[0]
             prepared = clarabel_socp.Prepared(grasp, norm, "normal")
-            bt, _, _ = timed(prepared.solve_raw, ws)
+            bt = _timed_passes(prepared.solve_raw, ws)[0].min(axis=0)
             tight = clarabel_socp.Prepared(grasp, norm, "normal", tight=True)
             for r, w in zip(res, ws):
                 truth = tight.solve(w)

@@ -103,6 +103,19 @@ def random_wrenches(k, seed=0):
     return np.hstack([rng.normal(0.0, 10.0, (k, 3)), rng.normal(0.0, 0.5, (k, 3))])
 
 
+def cone_outside(contact, f):
+    """How far the local force f lies outside F_i of eq. (12), in its own units (<= 0 inside),
+    from the contact's mu and mu_spin alone: its cone's excess or a negative normal force."""
+    tangential = np.hypot(f[1], f[2])
+    if contact.mu == 0.0:
+        excess = max(tangential, abs(f[3]))
+    elif contact.mu_spin == 0.0:
+        excess = max(tangential / contact.mu - f[0], abs(f[3]))
+    else:
+        excess = np.hypot(tangential / contact.mu, f[3] / contact.mu_spin) - f[0]
+    return max(excess, -f[0])
+
+
 def support_L1(ellipsoids, u):
     """h_{W_L1}(u) in closed form (NOTES.md item 3): max_i c_i.u + ||S_i^T u||. Independent of graspforce."""
     return max(c @ u + np.linalg.norm(S.T @ u) for c, S in ellipsoids)

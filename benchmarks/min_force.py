@@ -26,7 +26,7 @@ import sys
 
 import numpy as np
 
-from benchmarks.grasp_sets import MU, MU_S, ingot_grasp, random_wrenches
+from benchmarks.grasp_sets import MU, MU_S, cone_outside, ingot_grasp, random_wrenches
 from benchmarks.ray_shoot import PAPER_TABLES, _cpu_name, _timed_pass, core_description
 
 METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie", "zc-ie-newton")
@@ -36,14 +36,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 def cone_violation(contact, f, scale):
     """How far the local force f lies outside F_i (eq. 12), relative to `scale` (the solution's
     largest normal force: an unused contact's f_1 ~ 0 would make a relative measure meaningless)."""
-    tangential = np.hypot(f[1], f[2])
-    if contact.mu == 0.0:
-        excess = max(tangential, abs(f[3]))
-    elif contact.mu_spin == 0.0:
-        excess = max(tangential / contact.mu - f[0], abs(f[3]))
-    else:
-        excess = np.hypot(tangential / contact.mu, f[3] / contact.mu_spin) - f[0]
-    return max(excess, -f[0], 0.0) / scale
+    return max(cone_outside(contact, f), 0.0) / scale
 
 
 def summarize(name, times, results, wrenches, grasp, reference, eps=None):

@@ -86,12 +86,12 @@ class ClarabelRayShooter:
 REPEATS = 3
 
 
-def _timed_pass(fn, rays):
+def _timed_passes(fn, rays):
     """Warm-up pass, then REPEATS timed passes; each call timed on its own. Returns (times_ns
-    (k,), the per-ray minimum; results of the first timed pass)."""
+    (REPEATS, k), every pass's; results of the first timed pass)."""
     for r in rays:
         fn(r)
-    times = np.full(len(rays), np.iinfo(np.int64).max, dtype=np.int64)
+    times = np.empty((REPEATS, len(rays)), dtype=np.int64)
     out = []
     gc_was_on = gc.isenabled()
     gc.disable()
@@ -100,13 +100,20 @@ def _timed_pass(fn, rays):
             for j, r in enumerate(rays):
                 t0 = time.perf_counter_ns()
                 res = fn(r)
-                times[j] = min(times[j], time.perf_counter_ns() - t0)
+                times[rep, j] = time.perf_counter_ns() - t0
                 if rep == 0:
                     out.append(res)
     finally:
         if gc_was_on:
             gc.enable()
     return times, out
+
+
+def _timed_pass(fn, rays):
+    """(times_ns (k,), each call's least over the passes of `_timed_passes`; results of the
+    first timed pass)."""
+    times, out = _timed_passes(fn, rays)
+    return times.min(axis=0), out
 
 
 def _time_compiled_support(W, U, support_closed_form, passes=5, sweeps=20):

@@ -236,13 +236,6 @@ def random_ellipsoid(rng, n, k=None, c_scale=0.3):
 
 
 # -- the service: one real server for the session's service tests -------------------------------
-def _free_port():
-    import socket
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 @pytest.fixture(scope="session")
 def served():
     """The base URL of a service started as `python -m graspforce serve` on a loopback port (the
@@ -253,7 +246,9 @@ def served():
     httpx = pytest.importorskip("httpx")
     import subprocess
     import time
-    port = _free_port()
+
+    from benchmarks.service import free_port, stop
+    port = free_port()
     env = {**os.environ, "GRASPFORCE_THREADS": "2"}
     for name in ("GRASPFORCE_TOKEN", "GRASPFORCE_CORS_ORIGINS", "GRASPFORCE_MAX_BODY_BYTES",
                  "GRASPFORCE_MAX_CONTACTS", "GRASPFORCE_MAX_BATCH", "GRASPFORCE_MAX_SET_LEAVES"):
@@ -276,9 +271,4 @@ def served():
             time.sleep(0.05)
         yield url
     finally:
-        proc.terminate()
-        try:
-            proc.wait(10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
+        stop(proc)

@@ -22,6 +22,8 @@ import scipy.sparse as sp
 
 import clarabel
 
+from benchmarks.grasp_sets import cone_outside
+
 LEAF_KINDS = ("poly", "ell", "box", "tcone")
 
 
@@ -856,14 +858,7 @@ def _absent_components(contacts):
 def cone_excess(contact, f):
     """How far the local force f lies outside F_i of eq. (12), relative to f_1 (<= 0 inside),
     from the contact's mu and mu_spin alone (not Contact's own checks)."""
-    tangential = np.hypot(f[1], f[2])
-    if contact.mu == 0.0:
-        excess = max(tangential, abs(f[3]))
-    elif contact.mu_spin == 0.0:
-        excess = max(tangential / contact.mu - f[0], abs(f[3]))
-    else:
-        excess = np.hypot(tangential / contact.mu, f[3] / contact.mu_spin) - f[0]
-    return max(excess, -f[0]) / max(f[0], 1e-300)
+    return cone_outside(contact, f) / max(f[0], 1e-300)
 
 
 def cone_slack(f, mu, mu_s):

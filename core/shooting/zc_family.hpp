@@ -511,17 +511,22 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                     for (Int i = 0; i < n; ++i) nvec[i] = y[i] * iny;
                 }
                 it += 1;
+                // the certified point tz r whose weights lam holds: the simplex kept, the bracket
+                // from h_A at the normal
+                auto hit = [&](double tz, double nr) {
+                    kz = keep(P, Wt, lam, n, Pz, Wz, lz);
+                    code = HIT;
+                    t = tz;
+                    t_up = h / nr;
+                    h_n = h;
+                };
                 if (closed && fresh_only) {
                     // the fresh LU's weights, as a convex combination (certified_t)
                     const double nr = dot(nvec, r);
                     const double tz = certified_t(gam, n, h, nr, eps);
                     if (tz > 0.0) {
                         for (Int j = 0; j < n; ++j) lam[j] = gam[j] * tz;
-                        kz = keep(P, Wt, lam, n, Pz, Wz, lz);
-                        code = HIT;
-                        t = tz;
-                        t_up = h / nr;
-                        h_n = h;
+                        hit(tz, nr);
                         break;
                     }
                     // not a certified point of A: the step goes on
@@ -550,11 +555,7 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                         if (tz == 0.0) break;
                         for (Int j = 0; j < n; ++j) lam[j] = gam[j] * tz;
                         if (holds(P, lam, n, tz, r, b, FACET_HOLDS)) {
-                            kz = keep(P, Wt, lam, n, Pz, Wz, lz);
-                            code = HIT;
-                            t = tz;
-                            t_up = h / nr;
-                            h_n = h;
+                            hit(tz, nr);
                             break;
                         }
                     }
@@ -562,12 +563,8 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                     ok = solve_facet(P, n, r, M, lu, piv, ones, y, gam);
                     const double tz = ok ? certified_t(gam, n, h, nr, eps) : 0.0;
                     if (tz > 0.0) {
-                        t = tz;
-                        for (Int j = 0; j < n; ++j) lam[j] = gam[j] * t;
-                        kz = keep(P, Wt, lam, n, Pz, Wz, lz);
-                        code = HIT;
-                        t_up = h / nr;
-                        h_n = h;
+                        for (Int j = 0; j < n; ++j) lam[j] = gam[j] * tz;
+                        hit(tz, nr);
                         break;
                     }
                     // the updated inverse's drift matters at this eps: from here on, LU solves
