@@ -31,7 +31,7 @@ import scipy.sparse as sp
 from benchmarks.growth_sets import SCALES, protocol_pairs, random_shapes, scaled_shapes
 from benchmarks.ray_shoot import PAPER_TABLES, REPEATS, _cpu_name, _timed_pass, core_description
 
-METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie", "zc-ie-newton")
+METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie-paper", "zc-ie", "zc-ie-newton")
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 

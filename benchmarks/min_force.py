@@ -29,7 +29,7 @@ import numpy as np
 from benchmarks.grasp_sets import MU, MU_S, cone_outside, ingot_grasp, random_wrenches
 from benchmarks.ray_shoot import PAPER_TABLES, _cpu_name, _timed_pass, core_description
 
-METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie", "zc-ie-newton")
+METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie-paper", "zc-ie", "zc-ie-newton")
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 

@@ -127,6 +127,9 @@ struct NewtonOut {
 };
 NewtonOut newton_finish(IVec ints, Vec f, Vec r, double eps, Mat P, Mat Wt, Vec lam, Int k,
                         Vec normal, double t, bool corner);
+bool smooth_finish_applies(IVec ints, Vec f, Int n);
+NewtonOut smooth_finish(IVec ints, Vec f, Vec r, double eps, Mat Wt, Vec lam, Int k, Vec normal,
+                        double t);
 
 // ---- shot.hpp ---------------------------------------------------------------------------
 // a shooter's result, Python's 11-tuple of _result:

@@ -48,6 +48,7 @@ constexpr Int ZC_ONLY = 0;
 constexpr Int WITH_IE = 1;
 constexpr Int UNTIL_FACET = 2;
 constexpr Int WITH_NEWTON = 3;
+constexpr Int WITH_SMOOTH_NEWTON = 4;   // WITH_NEWTON's smooth path alone (newton.hpp)
 
 // methods
 constexpr Int GJK_BASED = 0;
@@ -56,6 +57,7 @@ constexpr Int ZC_BASED = 2;
 constexpr Int BI_GJK = 3;
 constexpr Int ZC_IE = 4;
 constexpr Int ZC_IE_NEWTON = 5;
+constexpr Int ZC_IE_PAPER = 6;   // ZC_IE without the Newton finish's smooth path: section 3.4.2
 
 // a packed shot's head: (status, t, t_upper, h_n, iterations, support_calls, singular_steps, k)
 constexpr Int HEAD = 8;

@@ -25,7 +25,7 @@ Vec3 = Annotated[list[Coord], Field(min_length=3, max_length=3)]
 Mat3 = Annotated[list[Vec3], Field(min_length=3, max_length=3)]
 Wrench = Annotated[list[Annotated[float, Field(ge=-WRENCH, le=WRENCH)]],
                    Field(min_length=6, max_length=6)]
-Method = Literal["gjk", "ie", "zc", "bi-gjk", "zc-ie", "zc-ie-newton"]
+Method = Literal["gjk", "ie", "zc", "bi-gjk", "zc-ie", "zc-ie-paper", "zc-ie-newton"]
 Norm = Literal["L1", "Linf"]
 Magnitude = Literal["normal", "full"]
 Eps = Annotated[float, Field(ge=1e-15, le=0.1, description="relative tolerance, in [1e-15, 0.1]")]

@@ -281,3 +281,69 @@ def test_zc_ie_newton_growth_is_exact_and_needs_fewer_support_calls(case):
                 assert gap <= 0.5e-9 * np.linalg.norm(p["p_c"] - p["p_e"])
                 calls[method].append(res.support_calls)
     assert np.median(calls["zc-ie-newton"]) <= 0.6 * np.median(calls["zc-ie"])
+
+
+def _steps(res):
+    return (res.status, res.t, res.t_upper, res.iterations, res.support_calls)
+
+
+@pytest.mark.parametrize("which", range(1, 7))
+def test_default_zc_ie_takes_the_papers_steps_where_its_finish_does_not_apply(which):
+    """"zc-ie" tries the Newton finish's smooth path on a root hull of ellipsoid leaves only
+    (W_L1); on any other set (a sum, an embedding, a box, W_Linf's lift) it is "zc-ie-paper",
+    step for step: the same t, bracket, iterations and support calls (both after the set's
+    second shot, which builds its start table)."""
+    rng = np.random.default_rng(100 + which)
+    A = _sets(rng)[which]
+    for method in ("zc-ie", "zc-ie-paper"):
+        gf.ray_shoot(A, rng.normal(size=A.dim), method)
+    for _ in range(20):
+        r = rng.normal(size=A.dim)
+        assert _steps(gf.ray_shoot(A, r, "zc-ie")) == _steps(gf.ray_shoot(A, r, "zc-ie-paper"))
+
+
+def test_default_zc_ie_on_the_lift_and_growth_is_the_papers():
+    """min_force Linf shoots at W_Linf's lift and growth distance at Δ: neither is a hull of
+    ellipsoid leaves, and "zc-ie" answers exactly as "zc-ie-paper"."""
+    from benchmarks.families import FAMILIES
+    from benchmarks.growth_sets import protocol_pairs
+    grasp, loads = FAMILIES["sphere-4"](np.random.default_rng(3), 10)
+    for method in ("zc-ie", "zc-ie-paper"):                   # the lift's start table
+        grasp.min_force(loads[0], "Linf", method=method)
+    for w in loads:
+        a, b = (grasp.min_force(w, "Linf", method=m) for m in ("zc-ie", "zc-ie-paper"))
+        assert (a.status, a.sigma, a.sigma_lower, a.iterations) == \
+            (b.status, b.sigma, b.sigma_lower, b.iterations)
+    for p in protocol_pairs(10, seed=4):
+        A = gf.Ellipsoid(np.zeros(3), np.diag(p["axes"]))
+        B = gf.TruncatedCone(p["rb"], p["rt"], p["h"])
+        a, b = (gf.growth_distance(A, (p["R_e"], p["p_e"]), B, (p["R_c"], p["p_c"]), method=m)
+                for m in ("zc-ie", "zc-ie-paper"))
+        assert (a.status, a.sigma, a.iterations, a.support_calls) == \
+            (b.status, b.sigma, b.iterations, b.support_calls)
+
+
+def test_default_zc_ie_finishes_saturated_grasps_in_a_third_of_the_steps():
+    """Soft fingers around a sphere (benchmarks/families.py), where the minimum saturates
+    friction at every active contact and the paper's ZC-IE takes ~60 steps: "zc-ie" answers
+    within eps of the SOCP with its full certificate (test_certificates.check_optimal, recomputed
+    with truth.py), in at most 0.4 of the paper's procedure's median iterations; answers of both
+    agree to eps."""
+    from benchmarks.families import FAMILIES
+    from grasp_cases import plain
+    from test_certificates import check_optimal
+    rng = np.random.default_rng(8)
+    iterations = {"zc-ie": [], "zc-ie-paper": []}
+    for m in (3, 4, 5):
+        for _ in range(2):
+            grasp, loads = FAMILIES[f"sphere-{m}"](rng, 10)
+            P = plain(grasp)
+            for w in loads:
+                sigma_socp = T.min_force_socp(P, w, "L1", "normal")[1]
+                res = {method: grasp.min_force(w, method=method) for method in iterations}
+                for method, r in res.items():
+                    check_optimal(grasp, P, w, r, (m, method))
+                    assert abs(r.sigma - sigma_socp) <= 1e-7 * sigma_socp
+                    iterations[method].append(r.iterations)
+                assert abs(res["zc-ie"].sigma / res["zc-ie-paper"].sigma - 1) <= 2e-9
+    assert np.median(iterations["zc-ie"]) <= 0.4 * np.median(iterations["zc-ie-paper"])

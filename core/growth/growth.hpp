@@ -164,7 +164,7 @@ GrowthOut growth_query(IVec ints, Vec floats, Mat R_a, Vec p_a, Mat R_b, Vec p_b
     if (warm) {
         head = shoot_warm(ints, floats, r, ws, eps, max_iter, normal, floats[c + G::SPREAD],
                           packed, G::FRAME);
-    } else if (method == ZC_IE) {
+    } else if (method == ZC_IE || method == ZC_IE_PAPER) {
         const double rn = 1.0 / std::sqrt(rr);
         for (Int a = 0; a < 3; ++a) ray(1, a) = r[a] * rn;
         head = shoot_warm(ints, floats, r, ws, eps, max_iter, ray.row(1), G::COLD_SPREAD, packed,

@@ -218,7 +218,8 @@ inline void check_zc_start(I1 ints, In1 r, Int ws, Int mode, const F2& Pz, const
                            const F1& lz, Int kz, const In2& inverse, const In2& directions) {
     const Int n = root_dim(ints);
     require(len(r) == n, "r: expected the set's dimension");
-    require(gf::ZC_ONLY <= mode && mode <= gf::WITH_NEWTON, "mode: not one of zc_from's modes");
+    require(gf::ZC_ONLY <= mode && mode <= gf::WITH_SMOOTH_NEWTON,
+            "mode: not one of zc_from's modes");
     require(rows(Pz) >= n + 2 && cols(Pz) == n, "Pz: expected (n + 2, n)");
     require(rows(Wz) >= n + 2 && cols(Wz) == ws && len(lz) >= n + 2,
             "Wz, lz: expected (n + 2, ws) and n + 2 weights");
@@ -246,7 +247,8 @@ inline nb::tuple zc_loop(I1 ints, F1 floats, In1 r, Int ws, double eps, Int max_
     namespace Z = gf::zc_family_detail;
     const Int n = root_dim(ints);
     require(len(r) == n, "r: expected the set's dimension");
-    require(gf::ZC_ONLY <= mode && mode <= gf::WITH_NEWTON, "mode: not one of zc_from's modes");
+    require(gf::ZC_ONLY <= mode && mode <= gf::WITH_SMOOTH_NEWTON,
+            "mode: not one of zc_from's modes");
     require(compiled_for == 0 || ((compiled_for == 3 || compiled_for == 6 || compiled_for == 9) &&
                                   compiled_for == n),
             "compiled_for: expected 0 (any n) or r's dimension, one of 3, 6, 9");
@@ -339,6 +341,7 @@ inline void bind_testing(nanobind::module_& m) {
     t.attr("WITH_IE") = gf::WITH_IE;
     t.attr("UNTIL_FACET") = gf::UNTIL_FACET;
     t.attr("WITH_NEWTON") = gf::WITH_NEWTON;
+    t.attr("WITH_SMOOTH_NEWTON") = gf::WITH_SMOOTH_NEWTON;
     t.attr("FACET") = gf::FACET;
     t.def("matvec", &T::matvec, "B"_a, "n"_a, "x"_a, "out"_a.noconvert(), "out = B x.");
     t.def("pivot", &T::pivot, "B"_a.noconvert(), "n"_a, "alpha"_a, "js"_a, "y"_a.noconvert(),

@@ -143,7 +143,7 @@ inline std::tuple<nb::object, double> shoot_loop(I1 ints, F1 floats, In2 R, std:
     const gf::Int n = root_dim(ints);
     if (R.shape(0) < 1 || static_cast<gf::Int>(R.shape(1)) != n)
         throw nb::value_error("R: expected (k >= 1, n) rays, n the program's dimension");
-    if (method < gf::GJK_BASED || method > gf::ZC_IE_NEWTON)
+    if (method < gf::GJK_BASED || method > gf::ZC_IE_PAPER)
         throw nb::value_error("method: not a method code");
     const size_t k = R.shape(0);
     gf::Array ns(passes, static_cast<gf::Int>(k));

@@ -40,6 +40,11 @@ namespace newton_detail {
 constexpr Int NEWTON_STEPS = 12;
 // ||du|| <= STEP_TOL ||u||: one more step leaves an error far below eps
 constexpr double STEP_TOL = 1e-7;
+// the ellipsoid path tries its certificate once ||du|| <= EARLY_STEP ||u||: the next step's
+// error, ~||du||^2, is then far below eps, and a certificate that fails asks for STEP_TOL
+constexpr double EARLY_STEP = 1e-5;
+// a step longer than DIVERGED times the last (same pieces) ends the ellipsoid path's try
+constexpr double DIVERGED = 0.5;
 // ||T^T u|| <= FLAT_RHO ||T|| ||u|| on the facet's normal: the leaf is flat,
 constexpr double FLAT_RHO = 1e-3;
 // or its facet vertices' mean local point is this far inside (squared)
@@ -414,6 +419,8 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
     Int calls = 0;
     Int changes = 0;
     bool converged = false;
+    bool precise = false;   // certify only after a step below STEP_TOL, not EARLY_STEP
+    double last_du = INF;   // the last step's length, INF after a change of the piece set
     while (steps < NEWTON_STEPS) {
         if (m < 1 || changes > MAX_CHANGES)
             return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
@@ -427,7 +434,12 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             rho[p] = e.rho;
         }
         if (converged) {
-            // certify as the general path: weights re-solved on the points, the full support
+            // certify as the general path: weights re-solved on the points, the full support.
+            // A certificate tried early that does not hold asks for the full step test
+            auto not_yet = [&]() {
+                precise = true;
+                converged = false;
+            };
             Array S(n + 1, n);
             Array WS(n + 1, ws);
             Array lmA(n + 1);
@@ -449,12 +461,13 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             double point[FAST_N];
             const double tz = weights_on_ray(Sm, m, r, lv, Mat{D, n, m, m}, Mat{work, n, m, m},
                                              Vec{wrhs, n}, Vec{rhs, n});
-            if (tz <= 0.0 || smallest(lv, m) < -1e-12)
-                return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
             for (Int i = 0; i < n; ++i) point[i] = tz * r[i];
             const Vec pv{point, n};
-            if (!reproduce(Sm, lv, m, pv))
-                return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
+            if (tz <= 0.0 || smallest(lv, m) < -1e-12 || !reproduce(Sm, lv, m, pv)) {
+                if (precise) return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
+                not_yet();
+                continue;
+            }
             double ur = 0.0;
             uu = 0.0;
             for (Int i = 0; i < n; ++i) {
@@ -476,9 +489,14 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             const Int l = flagged_child(ints, witA.vec());
             Int p = 0;
             while (p < m && leaf[p] != l) ++p;
+            if (p < m && !precise) {
+                not_yet();
+                continue;
+            }
             if (l < 0 || p < m || m == n)
                 return ellipsoid_failed(t, t_up, h_full, steps, calls, n, ws);
             for (Int q = 0; q < m; ++q) lm[q] = lv[q];
+            last_du = INF;
             leaf[m] = l;
             lm[m] = 0.0;
             m += 1;
@@ -551,9 +569,14 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             m -= 1;
             changes += 1;
             converged = false;
+            last_du = INF;
             continue;
         }
-        converged = du <= STEP_TOL * un;
+        // Newton's steps shrink quadratically near the answer; one that does not halve the last
+        // is a piece set (or a singular system's basic steps) that does not converge
+        if (du > DIVERGED * last_du) return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
+        last_du = du;
+        converged = du <= (precise ? STEP_TOL : EARLY_STEP) * un;
     }
     return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
 }
@@ -863,6 +886,22 @@ NewtonOut newton_finish(IVec ints, Vec f, Vec r, double eps, Mat P, Mat Wt, Vec 
         converged = du <= STEP_TOL * un;
     }
     return failed(t, INF, 0.0, steps, calls, nrmA, S, lmA, WS);
+}
+
+// Whether smooth_finish can take a shot at this set: a hull of ellipsoid leaves (W_L1 of soft or
+// point contacts).
+bool smooth_finish_applies(IVec ints, Vec f, Int n) {
+    return newton_detail::ellipsoid_hull_columns(ints, f, n) >= 0;
+}
+
+// newton_finish's plain steps where every piece of the exit face is smooth (`ellipsoid_finish`);
+// not ok, after no step, where a piece is flat or at its kink.
+NewtonOut smooth_finish(IVec ints, Vec f, Vec r, double eps, Mat Wt, Vec lam, Int k, Vec normal,
+                        double t) {
+    using namespace newton_detail;
+    std::optional<NewtonOut> fast = ellipsoid_finish(ints, f, r, eps, Wt, lam, k, normal, t);
+    if (fast) return std::move(*fast);
+    return ellipsoid_failed(t, INF, 0.0, 0, 0, r.n, Wt.cols);
 }
 
 }  // namespace gf

@@ -118,7 +118,8 @@ namespace gf {
 // the table's own support calls are not counted.
 Shot shoot_with_table(IVec ints, Vec floats, Vec r, Int ws, Int method, double eps,
                       Int max_iter, Vec table) {
-    if ((method == ZC_IE || method == ZC_IE_NEWTON || method == BI_GJK || method == IE) &&
+    if ((method == ZC_IE || method == ZC_IE_NEWTON || method == ZC_IE_PAPER || method == BI_GJK ||
+         method == IE) &&
         table.n > 0) {
         const Int n = r.n;
         // P (n + 2, n), B (n, n), y (n) in one array; Wt (n + 2, ws); lam (n + 2); scores (F)
@@ -138,7 +139,9 @@ Shot shoot_with_table(IVec ints, Vec floats, Vec r, Int ws, Int method, double e
             } else if (method == IE) {
                 out = ie_from(ints, floats, r, ws, eps, max_iter, P, Wt, 0, 0);
             } else {
-                const Int mode = method == ZC_IE ? WITH_IE : WITH_NEWTON;
+                const Int mode = method == ZC_IE       ? WITH_SMOOTH_NEWTON
+                                 : method == ZC_IE_NEWTON ? WITH_NEWTON
+                                                          : WITH_IE;
                 out = zc_from(ints, floats, r, ws, eps, max_iter, mode, t, P, Wt, lam, n, 0, 0, B,
                               B.top(0));
             }

@@ -21,7 +21,8 @@ namespace gf {
 namespace zc_family_detail {
 
 constexpr Int REFACTOR = 64;   // IE steps between fresh factorizations of the facet matrix
-// "zc-ie-newton" tries the Newton finish (newton.hpp, docs/core-api.md) in up to R^NEWTON_CHEAP
+// "zc-ie-newton" tries the Newton finish (newton.hpp, docs/core-api.md), and "zc-ie" its smooth
+// path alone on the sets it takes (smooth_finish), in up to R^NEWTON_CHEAP
 // once an IE step's relative gap is at most NEWTON_GAP; above, where a try is dear (grasps in R^6:
 // ~5 us, more than the IE steps it saved when tried early), once the gap is at most
 // NEWTON_GAP_DEAR and the last NEWTON_STABLE n IE steps each found their support point on a piece
@@ -147,6 +148,22 @@ struct OriginVerdict {
 [[gnu::always_inline]] inline bool on_facet_piece(IVec ints, Mat Wt, Int n, Vec wit) {
     for (Int j = 0; j < n; ++j)
         if (piece::same_piece(ints, wit, Wt.row(j))) return true;
+    return false;
+}
+
+// on_facet_piece on a root hull of smooth leaves (smooth_finish's sets), where a piece is a
+// leaf: whether a facet point flags the leaf that wit flags. The witnesses' flags alone, not
+// same_piece's walk over every node.
+[[gnu::always_inline]] inline bool on_facet_leaf(IVec ints, Mat Wt, Int n, Vec wit) {
+    const Blocks B = blocks(ints[0]);
+    const Int c0 = B.CHILDREN + ints[B.CSTART];
+    for (Int c = 0; c < ints[B.CCOUNT]; ++c) {
+        const Int w = ints[B.WSTART + ints[c0 + c]];
+        if (wit[w] == 0.0) continue;
+        for (Int j = 0; j < n; ++j)
+            if (Wt(j, w) != 0.0) return true;
+        return false;
+    }
     return false;
 }
 
@@ -341,7 +358,7 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
     const Mat M = w.M, lu = w.lu, B = w.B, D = w.D;
     const IVec piv = w.pivots.vec();
     const Scratch& sc = w.sc;
-    const bool use_ie = mode == WITH_IE || mode == WITH_NEWTON;
+    const bool use_ie = mode == WITH_IE || mode == WITH_NEWTON || mode == WITH_SMOOTH_NEWTON;
 
     // the start: from the caller's simplex
     Int singular = 0;
@@ -355,7 +372,8 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
     Int age = -1;
     // the secant query needs every facet point's support direction (D's rows): known from the
     // caller's facet, kept by IE steps, lost to any other step
-    bool secant = mode == WITH_IE && kz == n && directions.rows >= n;
+    bool secant =
+        (mode == WITH_IE || mode == WITH_SMOOTH_NEWTON) && kz == n && directions.rows >= n;
     if (secant) {
         for (Int j = 0; j < n; ++j)
             for (Int i = 0; i < n; ++i) D(j, i) = directions(j, i);
@@ -374,8 +392,10 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
     // the row of P that the last IE step replaced since Pz last held the facet (-1: unknown)
     Int changed = -1;
     bool fresh_only = false;
-    double newton_gap =
-        mode != WITH_NEWTON ? -1.0 : n <= NEWTON_CHEAP ? NEWTON_GAP : NEWTON_GAP_DEAR;
+    const bool smooth = mode == WITH_SMOOTH_NEWTON && smooth_finish_applies(ints, floats, n);
+    double newton_gap = mode != WITH_NEWTON && !smooth ? -1.0
+                        : n <= NEWTON_CHEAP                ? NEWTON_GAP
+                                                           : NEWTON_GAP_DEAR;
     Int idle = 0;   // ZC steps in a row that left b_k where it was
     // a Newton try owed: the gap of the IE step that asked for it (0: none). Its simplex is the
     // step's facet, kept in Pz[:n], and the step's support point, P[n]
@@ -391,7 +411,9 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
         for (Int i = 0; i < n; ++i) Pz(n, i) = P(n, i);
         for (Int i = 0; i < ws; ++i) Wz(n, i) = Wt(n, i);
         lz[n] = 0.0;
-        NewtonOut fin = newton_finish(ints, floats, r, eps, Pz, Wz, lz, n + 1, nvec, t, false);
+        NewtonOut fin =
+            smooth ? smooth_finish(ints, floats, r, eps, Wz, lz, n + 1, nvec, t)
+                   : newton_finish(ints, floats, r, eps, Pz, Wz, lz, n + 1, nvec, t, false);
         it += fin.steps;
         calls += fin.calls;
         if (!fin.ok) {
@@ -576,7 +598,10 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                 const double gap = h * ny - 1.0;
                 kz = keep(P, Wt, lam, n, Pz, Wz, lz, changed);
                 if (newton_gap > 0.0 && n > NEWTON_CHEAP)
-                    stable = on_facet_piece(ints, Wt, n, wit) ? stable + 1 : 0;
+                    stable = (smooth ? on_facet_leaf(ints, Wt, n, wit)
+                                     : on_facet_piece(ints, Wt, n, wit))
+                                 ? stable + 1
+                                 : 0;
                 if (gap <= newton_gap && (n <= NEWTON_CHEAP || stable >= NEWTON_STABLE * n)) {
                     // IE's cutting planes have found the exit face's pieces: Newton on them
                     // (newton.hpp), with the new support point as a candidate piece, tried when
@@ -735,7 +760,8 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
 // ZC-based iterations from b = t r in A, the convex combination lz of Pz[:kz] (t = 0, kz = 0:
 // from the origin, which first decides whether the ray meets A; kz = n with WITH_IE: a facet
 // the ray crosses, where IE steps start). mode: ZC_ONLY (section 3.3), WITH_IE (ZC-IE, section
-// 3.4.2: plain IE steps while V_k is a facet), WITH_NEWTON (ZC-IE with the Newton finish) or
+// 3.4.2: plain IE steps while V_k is a facet), WITH_NEWTON (ZC-IE with the Newton finish),
+// WITH_SMOOTH_NEWTON (ZC-IE with the Newton finish's smooth path, on the sets it takes) or
 // UNTIL_FACET (return FACET with V_k as soon as it is a facet: IE's initialization). inverse:
 // [Pz_0 .. Pz_{n-1}]^{-1} when it is known (a start table's facet, start_table.hpp), else 0
 // rows. directions: with WITH_IE and kz = n, the unit directions whose support points Pz[:kz]
@@ -765,7 +791,7 @@ Shot zc_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
 
 // Section 3.3 (ZC-based) and, with mode WITH_IE, section 3.4.2 (ZC-IE): ZC-based iterations,
 // and plain IE steps whenever V_k has n points (a facet the ray crosses inside); with mode
-// WITH_NEWTON, ZC-IE with the Newton finish (newton.hpp).
+// WITH_NEWTON or WITH_SMOOTH_NEWTON, ZC-IE with the Newton finish or its smooth path (newton.hpp).
 Shot zc_from_simplex(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int mode,
                      double t, Mat V, Mat W, Vec lam, Int k, Int it, Int calls) {
     const Int n = r.n;

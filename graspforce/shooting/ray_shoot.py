@@ -11,7 +11,7 @@ from ..records.results import RayShot
 from ..geometry.sets import ConvexSet
 
 METHODS = {"gjk": S.GJK_BASED, "ie": S.IE, "zc": S.ZC_BASED, "bi-gjk": S.BI_GJK,
-           "zc-ie": S.ZC_IE, "zc-ie-newton": S.ZC_IE_NEWTON}
+           "zc-ie": S.ZC_IE, "zc-ie-paper": S.ZC_IE_PAPER, "zc-ie-newton": S.ZC_IE_NEWTON}
 
 
 def check_ray(r, n):
@@ -34,9 +34,13 @@ def check_tolerances(eps, max_iter):
 def ray_shoot(A, r, method="zc-ie", eps=1e-9, max_iter=10000):
     """Farthest point z_A(r) of A on the ray R(r) = {lambda r : lambda >= 0} (section 2.1).
 
-    method: "gjk" (3.1), "ie" (3.2), "zc" (3.3), "bi-gjk" (3.4.1), "zc-ie" (3.4.2), or
-    "zc-ie-newton": ZC-IE with a Newton finish on the pieces of the exit face
-    (core/shooting/newton.hpp; fewer iterations, answers exact to rounding).
+    method: "gjk" (3.1), "ie" (3.2), "zc" (3.3), "bi-gjk" (3.4.1), "zc-ie-paper" (3.4.2, as
+    the paper states it), "zc-ie" (the default: ZC-IE with a Newton finish on a hull of
+    ellipsoid pieces whose exit face is smooth, such as W_L1 of contacts whose friction
+    saturates; elsewhere the same steps as "zc-ie-paper"), or "zc-ie-newton" (ZC-IE with the
+    Newton finish on the exit face's pieces of any set). The Newton finishes
+    (core/shooting/newton.hpp) take fewer iterations where the exit face is curved, and their
+    answers are certified by the same stopping rule.
     eps: relative tolerance; every method stops once (h_A(n) - n^T z) <= eps n^T z, which
     bounds the relative error in t by eps (t_upper / t - 1 <= eps).
     max_iter: iteration limit; reaching it is the status "max_iter", never an exception. IE-type
