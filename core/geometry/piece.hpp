@@ -256,6 +256,45 @@ inline bool same_piece(IVec ints, Vec wa, Vec wb) {
     return true;
 }
 
+// A piece of a smooth hull: an ellipsoid leaf of a root hull (W_L1's contacts), or of a root hull
+// of ORIGIN_EMBED nodes (W_Linf's lift: {e} x CH({0} U W_i)), or such an embedding's origin: its
+// node (the leaf, or the embedding for its origin), the leaf's parameters at f[pp] (n, k, c, S;
+// pp -1 for an origin) and, under an embedding, the coordinates before the leaf's (lead) and the
+// embedding's offset at f[t0] (the set's n entries; -1: none).
+struct SmoothLeaf {
+    Int leaf;
+    Int pp;
+    Int lead;
+    Int t0;
+};
+
+// The SmoothLeaf whose point the witness w names, leaf -1 when it names none of the root's
+// ellipsoid leaves or origins with flag 1 (another kind of set, a flat leaf).
+inline SmoothLeaf smooth_leaf(IVec ints, Vec w) {
+    const Blocks B = blocks(ints[0]);
+    const Int c0 = B.CHILDREN + ints[B.CSTART];
+    for (Int c = 0; c < ints[B.CCOUNT]; ++c) {
+        const Int node = ints[c0 + c];
+        if (ints[B.KIND + node] == ORIGIN_EMBED) {
+            const Int leaf = ints[B.CHILDREN + ints[B.CSTART + node]];
+            const Int lead = ints[B.DIM + node] - ints[B.DIM + leaf];
+            const Int t0 = ints[B.PSTART + node] + 3;
+            const double origin = w[ints[B.WSTART + node]];
+            if (origin != 0.0)
+                return origin == 1.0 ? SmoothLeaf{node, -1, lead, t0} : SmoothLeaf{-1, 0, 0, -1};
+            const double flag = w[ints[B.WSTART + leaf]];
+            if (flag == 0.0) continue;
+            if (flag != 1.0 || ints[B.KIND + leaf] != ELLIPSOID) return {-1, 0, 0, -1};
+            return {leaf, ints[B.PSTART + leaf], lead, t0};
+        }
+        const double flag = w[ints[B.WSTART + node]];
+        if (flag == 0.0) continue;
+        if (flag != 1.0 || ints[B.KIND + node] != ELLIPSOID) return {-1, 0, 0, -1};
+        return {node, ints[B.PSTART + node], 0, -1};
+    }
+    return {-1, 0, 0, -1};
+}
+
 // Entries of a flat leaf's local point: an ellipsoid's x (k), a disk's (x, y).
 [[gnu::always_inline]] inline Int local_size(Int k, Vec f, Int p) {
     return k == ELLIPSOID ? static_cast<Int>(f[p + 1]) : 2;

@@ -206,8 +206,8 @@ inline NewtonOut failed(double t, double t_up, double h, Int steps, Int calls, A
 
 
 // The ellipsoid finish's limits: stack arrays for sets in up to R^FAST_N whose pieces' shapes have
-// up to FAST_N columns
-constexpr Int FAST_N = 8;
+// up to FAST_N columns (W_Linf's lift of 6 contacts is in R^11)
+constexpr Int FAST_N = 12;
 constexpr Int FAST_K = 2 * FAST_N + 1;   // unknowns u, lam, t
 
 // Solve K x = b (K (N, N) in FAST_K-strided rows, factored in lu) by LU with partial pivoting;
@@ -252,17 +252,24 @@ inline bool small_solve(const double* K, double* lu, const double* b, double* x,
     return true;
 }
 
-// The column count shared by the leaves of a hull of ellipsoid leaves in up to R^FAST_N, each with
-// up to FAST_N columns (a soft finger's W_L1, whose pieces the ellipsoid finish evaluates in closed
-// form): 0 when their counts differ, -1 for any other set.
-inline Int ellipsoid_hull_columns(IVec ints, Vec f, Int n) {
+// The column count shared by the ellipsoid leaves of a smooth hull (piece::SmoothLeaf: a root
+// hull of ellipsoid leaves, W_L1 of soft or point contacts, or of ORIGIN_EMBED nodes over one
+// each, W_Linf's lift) in up to R^FAST_N, each with up to FAST_N columns (the pieces the
+// ellipsoid finish evaluates in closed form): 0 when their counts differ, -1 for any other set.
+// embedded: whether some leaf is under an embedding.
+inline Int ellipsoid_hull_columns(IVec ints, Vec f, Int n, bool& embedded) {
     const Int nn = ints[0];
     const Blocks B = blocks(nn);
+    embedded = false;
     if (n > FAST_N || ints[B.KIND] != HULL) return -1;
     const Int c0 = B.CHILDREN + ints[B.CSTART];
     Int cols = -1;
     for (Int c = 0; c < ints[B.CCOUNT]; ++c) {
-        const Int leaf = ints[c0 + c];
+        Int leaf = ints[c0 + c];
+        if (ints[B.KIND + leaf] == ORIGIN_EMBED) {
+            embedded = true;
+            leaf = ints[B.CHILDREN + ints[B.CSTART + leaf]];
+        }
         if (ints[B.KIND + leaf] != ELLIPSOID) return -1;
         const Int kk = static_cast<Int>(f[ints[B.PSTART + leaf] + 1]);
         if (kk > FAST_N) return -1;
@@ -271,38 +278,41 @@ inline Int ellipsoid_hull_columns(IVec ints, Vec f, Int n) {
     return cols;
 }
 
-// The root hull's child whose leaf the witness w flags with 1 (-1: none, or flat).
-inline Int flagged_child(IVec ints, Vec w) {
-    const Int nn = ints[0];
-    const Blocks B = blocks(nn);
-    const Int c0 = B.CHILDREN + ints[B.CSTART];
-    for (Int c = 0; c < ints[B.CCOUNT]; ++c) {
-        const Int leaf = ints[c0 + c];
-        const double flag = w[ints[B.WSTART + leaf]];
-        if (flag != 0.0) return flag == 1.0 ? leaf : -1;
-    }
-    return -1;
-}
-
-// The point z = c + S x, x = S^T u / ||S^T u||, of the ellipsoid leaf at f[p:] (n, k, c, S) in
-// direction u, into z and x; returns (h = c^T u + ||S^T u||, ||S^T u||), or rho 0 at its kink.
-// Sizes as ellipsoid_piece.
+// The point z = t + (0, c + S x), x = S^T u_c / ||S^T u_c||, of the smooth leaf e (its
+// parameters (n_c, k, c, S), u_c the last n_c entries of u, t its embedding's offset or 0) in
+// direction u, into z (n), x (k) and sx = S x (n_c); returns (h = u^T z, ||S^T u_c||), or rho 0
+// at its kink. An embedding's origin is the point t (rho 1, no curvature). Sizes as
+// ellipsoid_piece; FN > 0 only for leaves without an embedding.
 struct EllipsePoint {
     double h;
     double rho;
 };
 template <int FN = 0, int FK = 0>
-[[gnu::always_inline]] inline EllipsePoint ellipsoid_at(Vec f, Int p, const double* u, Int n_,
-                                                        double* z, double* x) {
+[[gnu::always_inline]] inline EllipsePoint ellipsoid_at(Vec f, const piece::SmoothLeaf& e,
+                                                        const double* u_, Int n_, double* z,
+                                                        double* x, double* sx) {
     using piece_detail::KINK_TOL;
-    const Int n = FN > 0 ? FN : n_;
+    if (FN == 0 && e.pp < 0) {
+        double h = 0.0;
+        for (Int a = 0; a < n_; ++a) {
+            z[a] = f[e.t0 + a];
+            h += z[a] * u_[a];
+        }
+        return {h, 1.0};
+    }
+    const Int lead = FN > 0 ? 0 : e.lead;
+    const Int n = FN > 0 ? FN : n_ - lead;   // the leaf's own dimension n_c
+    const Int p = e.pp;
     const Int kk = FK > 0 ? FK : static_cast<Int>(f[p + 1]);
     const Int s0 = p + 2 + n;
+    const double* u = u_ + lead;
     double rho2 = 0.0, ss = 0.0, uu = 0.0, cu = 0.0;
     for (Int a = 0; a < n; ++a) {
         uu += u[a] * u[a];
         cu += f[p + 2 + a] * u[a];
     }
+    if (FN == 0 && e.t0 >= 0)
+        for (Int a = 0; a < n_; ++a) cu += f[e.t0 + a] * u_[a];
     for (Int b = 0; b < kk; ++b) {
         double y = 0.0;
         for (Int a = 0; a < n; ++a) {
@@ -317,10 +327,14 @@ template <int FN = 0, int FK = 0>
     const double inv = 1.0 / rho;
     for (Int b = 0; b < kk; ++b) x[b] *= inv;
     for (Int a = 0; a < n; ++a) {
-        double s = f[p + 2 + a];
+        double s = 0.0;
         for (Int b = 0; b < kk; ++b) s += f[s0 + a * kk + b] * x[b];
-        z[a] = s;
+        sx[a] = s;
+        z[lead + a] = f[p + 2 + a] + s;
     }
+    for (Int a = 0; a < lead; ++a) z[a] = 0.0;
+    if (FN == 0 && e.t0 >= 0)
+        for (Int a = 0; a < n_; ++a) z[a] += f[e.t0 + a];
     return {cu + rho, rho};
 }
 
@@ -331,14 +345,15 @@ inline NewtonOut ellipsoid_failed(double t, double t_up, double h, Int steps, In
             Array(n + 1, ws)};
 }
 
-// newton_finish on a hull of ellipsoid leaves (a soft finger's W_L1) whose exit face's pieces
-// are all smooth: the KKT system of the header comment without tau, flat leaves and the tree
-// walk, in the unknowns u, lam, t,
+// newton_finish on a smooth hull (ellipsoid_hull_columns: W_L1 of soft or point contacts, or
+// W_Linf's lift) whose exit face's pieces are all smooth: the KKT system of the header comment
+// without tau, flat leaves and the tree walk, in the unknowns u, lam, t,
 //
 //     sum_p lam_p z_p(u) = t r,   h_p(u) = 1 (each p),   sum_p lam_p = 1,
 //
-// (h_p = 1 fixes u's scale, and u^T r = 1 / t follows), each piece z_p = c + S x,
-// x = S^T u / ||S^T u||, with the curvature (S S^T - (S x)(S x)^T) / ||S^T u||, on the stack.
+// (h_p = 1 fixes u's scale, and u^T r = 1 / t follows), each piece z_p = t_p + (0, c + S x),
+// x = S^T u_c / ||S^T u_c|| (ellipsoid_at), with the curvature (S S^T - (S x)(S x)^T) /
+// ||S^T u_c|| in its leaf's coordinates, on the stack.
 // Pieces drop and join as in the general path, and the answer is certified as there. nullopt
 // hands over to the general path: another set, a flat piece (the general path's test) or a piece
 // at its kink. Compiled for sizes FN, FK (soft fingers' (6, 3): the loops
@@ -350,21 +365,22 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
     const Int n = FN > 0 ? FN : r.n;
     const Blocks B = blocks(ints[0]);
     const Int ws = Wt.cols;
-    Int leaf[FAST_N];
+    piece::SmoothLeaf leaf[FAST_N];
     double lm[FAST_N + 1];
     double xw[FAST_N * FAST_N];   // per piece: the weighted sum of its vertices' x
     double xs[FAST_N * FAST_N];   // and their plain sum
     Int count[FAST_N];
     Int m = 0;
     for (Int j = 0; j < k; ++j) {
-        const Int l = flagged_child(ints, Wt.row(j));
+        const piece::SmoothLeaf e = piece::smooth_leaf(ints, Wt.row(j));
+        const Int l = e.leaf;
         if (l < 0) return std::nullopt;
         Int p = 0;
-        while (p < m && leaf[p] != l) ++p;
-        const Int kk = static_cast<Int>(f[ints[B.PSTART + l] + 1]);
+        while (p < m && leaf[p].leaf != l) ++p;
+        const Int kk = e.pp < 0 ? 0 : static_cast<Int>(f[e.pp + 1]);
         if (p == m) {
             if (m == n) return std::nullopt;
-            leaf[m] = l;
+            leaf[m] = e;
             lm[m] = 0.0;
             count[m] = 0;
             for (Int b = 0; b < kk; ++b) xw[m * FAST_N + b] = xs[m * FAST_N + b] = 0.0;
@@ -381,21 +397,24 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
     const double nr = dot(normal, r);
     if (!(nr > 0.0) || !(t > 0.0)) return std::nullopt;
     double u[FAST_N];
+    for (Int i = 0; i < n; ++i) u[i] = normal[i] / (t * nr);
     double uu = 0.0;
-    for (Int i = 0; i < n; ++i) {
-        u[i] = normal[i] / (t * nr);
-        uu += u[i] * u[i];
-    }
-    // flat pieces (the general path's test; a piece of weight 0 by its vertices' plain mean)
+    // flat pieces (the general path's test, in the leaf's coordinates; a piece of weight 0 by
+    // its vertices' plain mean)
     for (Int p = 0; p < m; ++p) {
-        const Int pp = ints[B.PSTART + leaf[p]];
+        const Int pp = leaf[p].pp;
+        if (FN == 0 && pp < 0) continue;   // an origin
+        const Int lead = FN > 0 ? 0 : leaf[p].lead;
+        const Int nc = n - lead;
         const Int kk = FK > 0 ? FK : static_cast<Int>(f[pp + 1]);
-        const Int s0 = pp + 2 + n;
+        const Int s0 = pp + 2 + nc;
         double tu = 0.0, tt = 0.0, x2 = 0.0;
+        uu = 0.0;
+        for (Int a = lead; a < n; ++a) uu += u[a] * u[a];
         for (Int b = 0; b < kk; ++b) {
             double s = 0.0;
-            for (Int a = 0; a < n; ++a) {
-                s += f[s0 + a * kk + b] * u[a];
+            for (Int a = 0; a < nc; ++a) {
+                s += f[s0 + a * kk + b] * u[lead + a];
                 tt += f[s0 + a * kk + b] * f[s0 + a * kk + b];
             }
             tu += s * s;
@@ -405,8 +424,9 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
         }
         if (tu <= FLAT_RHO * FLAT_RHO * uu * tt || x2 < FLAT_SPREAD) return std::nullopt;
     }
-    double Z[FAST_N * FAST_N];   // the pieces' points, by row
-    double X[FAST_N * FAST_N];   // their x
+    double Z[FAST_N * FAST_N];    // the pieces' points, by row
+    double X[FAST_N * FAST_N];    // their x
+    double SX[FAST_N * FAST_N];   // their S x
     double hv[FAST_N];
     double rho[FAST_N];
     double K[FAST_K * FAST_K];
@@ -425,9 +445,8 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
         if (m < 1 || changes > MAX_CHANGES)
             return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
         for (Int p = 0; p < m; ++p) {
-            const EllipsePoint e =
-                ellipsoid_at<FN, FK>(f, ints[B.PSTART + leaf[p]], u, n, Z + p * FAST_N,
-                                     X + p * FAST_N);
+            const EllipsePoint e = ellipsoid_at<FN, FK>(f, leaf[p], u, n, Z + p * FAST_N,
+                                                        X + p * FAST_N, SX + p * FAST_N);
             // a piece at its kink turns flat: the general path's case
             if (e.rho == 0.0) return std::nullopt;
             hv[p] = e.h;
@@ -448,10 +467,13 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             const Mat Sm = S.mat();
             const Vec lv = lmA.vec();
             for (Int p = 0; p < m; ++p) {
-                const Int w = ints[B.WSTART + leaf[p]];
+                // the leaf's slot (an embedding's own slot stays 0: not its origin), or the
+                // embedding's for its origin
+                const Int w = ints[B.WSTART + leaf[p].leaf];
                 for (Int i = 0; i < n; ++i) Sm(p, i) = Z[p * FAST_N + i];
                 WS.mat()(p, w) = 1.0;
-                for (Int b = 0; b < static_cast<Int>(f[ints[B.PSTART + leaf[p]] + 1]); ++b)
+                if (leaf[p].pp < 0) continue;
+                for (Int b = 0; b < static_cast<Int>(f[leaf[p].pp + 1]); ++b)
                     WS.mat()(p, w + 1 + b) = X[p * FAST_N + b];
             }
             double D[FAST_N * (FAST_N + 1)];
@@ -486,9 +508,10 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
                                  m,     steps, calls,              std::move(nrmA),
                                  std::move(S), std::move(lmA),     std::move(WS)};
             // a piece the system did not hold sticks out at u: it joins with weight 0
-            const Int l = flagged_child(ints, witA.vec());
+            const piece::SmoothLeaf e = piece::smooth_leaf(ints, witA.vec());
+            const Int l = e.leaf;
             Int p = 0;
-            while (p < m && leaf[p] != l) ++p;
+            while (p < m && leaf[p].leaf != l) ++p;
             if (p < m && !precise) {
                 not_yet();
                 continue;
@@ -497,7 +520,7 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
                 return ellipsoid_failed(t, t_up, h_full, steps, calls, n, ws);
             for (Int q = 0; q < m; ++q) lm[q] = lv[q];
             last_du = INF;
-            leaf[m] = l;
+            leaf[m] = e;
             lm[m] = 0.0;
             m += 1;
             changes += 1;
@@ -515,21 +538,26 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             K[a * FAST_K + n + m] = -r[a];
         }
         for (Int p = 0; p < m; ++p) {
-            const Int pp = ints[B.PSTART + leaf[p]];
-            const Int kk = FK > 0 ? FK : static_cast<Int>(f[pp + 1]);
-            const Int s0 = pp + 2 + n;
-            const double g = lm[p] / rho[p];
-            for (Int a = 0; a < n; ++a) {
-                const double sxa = Z[p * FAST_N + a] - f[pp + 2 + a];
-                for (Int a2 = a; a2 < n; ++a2) {
-                    double v = -sxa * (Z[p * FAST_N + a2] - f[pp + 2 + a2]);
-                    for (Int b = 0; b < kk; ++b) v += f[s0 + a * kk + b] * f[s0 + a2 * kk + b];
-                    K[a * FAST_K + a2] += g * v;
-                }
-            }
+            // the curvature, in the leaf's coordinates (the last n_c of u); none at an origin
+            const Int pp = leaf[p].pp;
+            rhs[n + p] = 1.0 - hv[p];
             for (Int a = 0; a < n; ++a) K[(n + p) * FAST_K + a] = Z[p * FAST_N + a];
             for (Int c = n; c < N; ++c) K[(n + p) * FAST_K + c] = 0.0;
-            rhs[n + p] = 1.0 - hv[p];
+            if (FN == 0 && pp < 0) continue;
+            const Int lead = FN > 0 ? 0 : leaf[p].lead;
+            const Int nc = n - lead;
+            const Int kk = FK > 0 ? FK : static_cast<Int>(f[pp + 1]);
+            const Int s0 = pp + 2 + nc;
+            const double g = lm[p] / rho[p];
+            const double* sx = SX + p * FAST_N;
+            for (Int a = 0; a < nc; ++a) {
+                double* row = K + (lead + a) * FAST_K + lead;
+                for (Int a2 = a; a2 < nc; ++a2) {
+                    double v = -sx[a] * sx[a2];
+                    for (Int b = 0; b < kk; ++b) v += f[s0 + a * kk + b] * f[s0 + a2 * kk + b];
+                    row[a2] += g * v;
+                }
+            }
         }
         for (Int a = 0; a < n; ++a)
             for (Int a2 = 0; a2 < a; ++a2) K[a * FAST_K + a2] = K[a2 * FAST_K + a];
@@ -584,9 +612,10 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
 // ellipsoid_finish_sized for the set's sizes (nullopt for a set it does not take)
 inline std::optional<NewtonOut> ellipsoid_finish(IVec ints, Vec f, Vec r, double eps, Mat Wt,
                                                  Vec lam, Int k, Vec normal, double t) {
-    const Int cols = ellipsoid_hull_columns(ints, f, r.n);
+    bool embedded;
+    const Int cols = ellipsoid_hull_columns(ints, f, r.n, embedded);
     if (cols < 0) return std::nullopt;
-    if (r.n == 6 && cols == 3)
+    if (!embedded && r.n == 6 && cols == 3)
         return ellipsoid_finish_sized<6, 3>(ints, f, r, eps, Wt, lam, k, normal, t);
     return ellipsoid_finish_sized(ints, f, r, eps, Wt, lam, k, normal, t);
 }
@@ -889,9 +918,10 @@ NewtonOut newton_finish(IVec ints, Vec f, Vec r, double eps, Mat P, Mat Wt, Vec 
 }
 
 // Whether smooth_finish can take a shot at this set: a hull of ellipsoid leaves (W_L1 of soft or
-// point contacts).
+// point contacts) or of embeddings of one each with the origin (W_Linf's lift).
 bool smooth_finish_applies(IVec ints, Vec f, Int n) {
-    return newton_detail::ellipsoid_hull_columns(ints, f, n) >= 0;
+    bool embedded;
+    return newton_detail::ellipsoid_hull_columns(ints, f, n, embedded) >= 0;
 }
 
 // newton_finish's plain steps where every piece of the exit face is smooth (`ellipsoid_finish`);

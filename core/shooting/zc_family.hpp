@@ -151,19 +151,15 @@ struct OriginVerdict {
     return false;
 }
 
-// on_facet_piece on a root hull of smooth leaves (smooth_finish's sets), where a piece is a
-// leaf: whether a facet point flags the leaf that wit flags. The witnesses' flags alone, not
-// same_piece's walk over every node.
+// on_facet_piece on a smooth hull (smooth_finish's sets), where a piece is an ellipsoid leaf:
+// whether a facet point flags the leaf that wit flags (false for an embedding's origin). The
+// witnesses' flags alone, not same_piece's walk over every node.
 [[gnu::always_inline]] inline bool on_facet_leaf(IVec ints, Mat Wt, Int n, Vec wit) {
-    const Blocks B = blocks(ints[0]);
-    const Int c0 = B.CHILDREN + ints[B.CSTART];
-    for (Int c = 0; c < ints[B.CCOUNT]; ++c) {
-        const Int w = ints[B.WSTART + ints[c0 + c]];
-        if (wit[w] == 0.0) continue;
-        for (Int j = 0; j < n; ++j)
-            if (Wt(j, w) != 0.0) return true;
-        return false;
-    }
+    const piece::SmoothLeaf e = piece::smooth_leaf(ints, wit);
+    if (e.leaf < 0) return false;
+    const Int w = ints[blocks(ints[0]).WSTART + e.leaf];
+    for (Int j = 0; j < n; ++j)
+        if (Wt(j, w) != 0.0) return true;
     return false;
 }
 
