@@ -90,7 +90,7 @@ def main():
             for key, program in (("plan", ints), ("general", general)):
                 best[key] = min(best[key], _loop(program, floats, U, REPS, A.witness_size))
         plan = {K.GENERAL: "GENERAL", K.ELLIPSOID_HULL: "ELLIPSOID_HULL",
-                K.POSED_SUM: "POSED_SUM"}[int(ints[-1])]
+                K.ELLIPSE_HULL: "ELLIPSE_HULL", K.POSED_SUM: "POSED_SUM"}[int(ints[-1])]
         rows.append((name, plan, best["plan"], best["general"], _same_answers(A, U[:200])))
     print("| set | plan | plan's loop (ns) | four passes (ns) | passes / plan | max difference |")
     print("|---|---|---|---|---|---|")

@@ -19,8 +19,9 @@ constexpr Int EMBED = 13;          // params: m, n, span, t (m): x -> (0, x) + t
 constexpr Int ORIGIN_EMBED = 14;   // params as EMBED: the embedding of CH({0} U child)
 // plans (the last entry of a program's ints)
 constexpr Int GENERAL = 0;
-constexpr Int ELLIPSOID_HULL = 1;
+constexpr Int ELLIPSOID_HULL = 1;   // a hull of ellipsoids (6, 3) in R^6, bare or embedded
 constexpr Int POSED_SUM = 2;
+constexpr Int ELLIPSE_HULL = 3;     // the same of ellipses (6, 2): point contacts
 
 // the offsets in `ints` of a program's blocks, for a program of nn nodes
 struct Blocks {

@@ -289,23 +289,27 @@ def _support_by(plan, A, u):
 
 
 def test_ellipsoid_hulls_take_one_loop_that_matches_the_general_passes():
-    # the wrench sets of soft fingers (ellipsoids in R^6 with 3 axes), bare (W_L1) or lifted
-    # (W_Linf's lift, the origin winning for directions that all cones oppose): the plan's loop
-    # gives the four passes' value, point and witnesses; anything else keeps the passes (point
-    # contacts' 2 axes too: graspforce.geometry._kernel.ELLIPSOID_HULL)
+    # the wrench sets of soft fingers (ellipsoids in R^6 with 3 axes: ELLIPSOID_HULL) and of
+    # point contacts (2 axes: ELLIPSE_HULL), bare (W_L1) or lifted (W_Linf's lift, the origin
+    # winning for directions that all cones oppose): the plan's loop gives the four passes'
+    # value, point and witnesses; anything else keeps the passes (graspforce.geometry._kernel)
     from graspforce.geometry import _kernel as K
     from graspforce.grasping.wrench_space import lift_rows, lift_summand
     rng = np.random.default_rng(25)
-    W = [gf.Ellipsoid(*random_ellipsoid(rng, 6, 3, c_scale=1.0)) for _ in range(4)]
-    for A in (gf.hull(*W), gf.hull(*[lift_summand(W_i, e) for W_i, e in zip(W, lift_rows(4))])):
-        assert A.program[0][-1] == K.ELLIPSOID_HULL
+    sets = []
+    for axes, plan in ((3, K.ELLIPSOID_HULL), (2, K.ELLIPSE_HULL)):
+        W = [gf.Ellipsoid(*random_ellipsoid(rng, 6, axes, c_scale=1.0)) for _ in range(4)]
+        sets += [(W, plan, gf.hull(*W)),
+                 (W, plan, gf.hull(*[lift_summand(W_i, e) for W_i, e in zip(W, lift_rows(4))]))]
+    for W, plan, A in sets:
+        assert A.program[0][-1] == plan
         dirs = unit_dirs(rng, A.dim, 200)
         # the lift's origins: the wrench part against every cone, a contact coordinate ahead
         against = np.concatenate((np.zeros(A.dim - 6), -np.mean([w.center for w in W], 0)))
         dirs = np.vstack((dirs, against, against + np.eye(A.dim)[0]))
         origins = 0
         for u in dirs:
-            h, point, wit = _support_by(K.ELLIPSOID_HULL, A, u)
+            h, point, wit = _support_by(plan, A, u)
             h_ref, point_ref, wit_ref = _support_by(K.GENERAL, A, u)
             assert abs(h - h_ref) <= 1e-14 * max(1.0, abs(h_ref))
             assert np.abs(point - point_ref).max() <= 1e-14 * max(1.0, np.abs(point_ref).max())
@@ -317,10 +321,9 @@ def test_ellipsoid_hulls_take_one_loop_that_matches_the_general_passes():
             assert origins >= 2
     mixed = gf.hull(gf.Ellipsoid(*random_ellipsoid(rng, 6, 3)),
                     gf.Ellipsoid(*random_ellipsoid(rng, 6, 2)))
-    points = gf.hull(*[gf.Ellipsoid(*random_ellipsoid(rng, 6, 2)) for _ in range(3)])
     with_ball = gf.hull(gf.Ellipsoid(*random_ellipsoid(rng, 6, 3)), gf.Ball(np.zeros(6), 1.0))
     in_3d = gf.hull(gf.Ellipsoid(*random_ellipsoid(rng, 3, 3)), gf.Ball(np.zeros(3), 1.0))
-    for A in (mixed, points, with_ball, in_3d, gf.minkowski_sum(*W)):
+    for A in (mixed, with_ball, in_3d, gf.minkowski_sum(*W)):
         assert A.program[0][-1] == K.GENERAL
 
 

@@ -262,14 +262,16 @@ struct ConeSupport {
     }
 }
 
-// `support` for the plan ELLIPSOID_HULL: every child of the root hull is an ellipsoid
-// {c + S x : ||x|| <= 1} in R^6 with S (6, 3), bare or under an embedding (x -> (0, x) + t; an
+// `support` for the plans ELLIPSOID_HULL (K = 3: soft fingers) and ELLIPSE_HULL (K = 2: point
+// contacts): every child of the root hull is an ellipsoid {c + S x : ||x|| <= 1} in R^6 with S
+// (6, K), bare or under an embedding (x -> (0, x) + t; an
 // origin embedding's value is t^T u + max(0, h), the origin winning a tie). One loop over the
 // children with the direction read from u and the best child's S^T u held in registers, then one
 // point: the four passes' value, point and witnesses (the same flags and ties), at 112 ns a call
 // on the ingot's W_Linf lift against 189, 89 against 127 on its W_L1. The passes pay for what a
 // general tree needs: each node's kind and offsets are read in every pass, and its direction,
 // value and point go through the scratch part of `floats`.
+template <int K>
 inline double ellipsoid_hull(IVec ints, Vec f, Vec u, Vec point, Vec wit) {
     const Int nn = ints[0];
     const auto [KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE,
@@ -280,27 +282,28 @@ inline double ellipsoid_hull(IVec ints, Vec f, Vec u, Vec point, Vec wit) {
     double best = -INF;
     Int arg = ints[first];
     bool origin = false;       // the best child is an origin embedding's origin
-    double bx0 = 0.0, bx1 = 0.0, bx2 = 0.0;
+    double bx[K] = {};
     for (Int c = 0; c < ints[CCOUNT]; ++c) {
         const Int i = ints[first + c];
         const Int k = ints[KIND + i];
         const Int leaf = k < HULL ? i : ints[CHILDREN + ints[CSTART + i]];
-        const Int p = ints[PSTART + leaf] + 2;   // c (6), then S (6, 3) row-major
-        double cu = 0.0, x0 = 0.0, x1 = 0.0, x2 = 0.0;
+        const Int p = ints[PSTART + leaf] + 2;   // c (6), then S (6, K) row-major
+        double cu = 0.0;
+        double x[K] = {};
         for (Int a = 0; a < 6; ++a) {
             const double ua = u[lead + a];
             cu += f[p + a] * ua;
-            x0 += f[p + 6 + 3 * a] * ua;
-            x1 += f[p + 7 + 3 * a] * ua;
-            x2 += f[p + 8 + 3 * a] * ua;
+            for (Int b = 0; b < K; ++b) x[b] += f[p + 6 + K * a + b] * ua;
         }
         const Int w = ints[WSTART + leaf];
         wit[w] = 0.0;
-        wit[w + 1] = x0;
-        wit[w + 2] = x1;
-        wit[w + 3] = x2;
+        double xx = 0.0;
+        for (Int b = 0; b < K; ++b) {
+            wit[w + 1 + b] = x[b];
+            xx += x[b] * x[b];
+        }
         // c^T u apart: the sum waits on the square root once, not six times
-        double h = cu + std::sqrt(x0 * x0 + x1 * x1 + x2 * x2);
+        double h = cu + std::sqrt(xx);
         bool at_origin = false;
         if (k >= HULL) {
             const Int p0 = ints[PSTART + i];
@@ -321,9 +324,7 @@ inline double ellipsoid_hull(IVec ints, Vec f, Vec u, Vec point, Vec wit) {
             best = h;
             arg = i;
             origin = at_origin;
-            bx0 = x0;
-            bx1 = x1;
-            bx2 = x2;
+            for (Int b = 0; b < K; ++b) bx[b] = x[b];
         }
     }
     const Int k = ints[KIND + arg];
@@ -337,21 +338,22 @@ inline double ellipsoid_hull(IVec ints, Vec f, Vec u, Vec point, Vec wit) {
         wit[ints[WSTART + arg]] = 1.0;
         return best;
     }
-    const double nrm2 = bx0 * bx0 + bx1 * bx1 + bx2 * bx2;
+    double nrm2 = 0.0;
+    for (Int b = 0; b < K; ++b) nrm2 += bx[b] * bx[b];
     const double inv = nrm2 > 0.0 ? 1.0 / std::sqrt(nrm2) : 0.0;
-    bx0 *= inv;
-    bx1 *= inv;
-    bx2 *= inv;
     const Int leaf = k < HULL ? arg : ints[CHILDREN + ints[CSTART + arg]];
     const Int w = ints[WSTART + leaf];
     wit[w] = 1.0;
-    wit[w + 1] = bx0;
-    wit[w + 2] = bx1;
-    wit[w + 3] = bx2;
+    for (Int b = 0; b < K; ++b) {
+        bx[b] *= inv;
+        wit[w + 1 + b] = bx[b];
+    }
     const Int p = ints[PSTART + leaf] + 2;
-    for (Int a = 0; a < 6; ++a)
-        point[lead + a] += (f[p + a] + f[p + 6 + 3 * a] * bx0 + f[p + 7 + 3 * a] * bx1
-                            + f[p + 8 + 3 * a] * bx2);
+    for (Int a = 0; a < 6; ++a) {
+        double s = f[p + a];
+        for (Int b = 0; b < K; ++b) s += f[p + 6 + K * a + b] * bx[b];
+        point[lead + a] += s;
+    }
     return best;
 }
 
@@ -439,7 +441,8 @@ inline double posed_sum(IVec ints, Vec f, Vec u, Vec point, Vec wit) {
 double support(IVec ints, Vec f, Vec u, Vec point, Vec wit) {
     using namespace kernel_detail;
     const Int plan = ints[ints.n - 1];
-    if (plan == ELLIPSOID_HULL) return ellipsoid_hull(ints, f, u, point, wit);
+    if (plan == ELLIPSOID_HULL) return ellipsoid_hull<3>(ints, f, u, point, wit);
+    if (plan == ELLIPSE_HULL) return ellipsoid_hull<2>(ints, f, u, point, wit);
     if (plan == POSED_SUM) return posed_sum(ints, f, u, point, wit);
     const Int nn = ints[0];
     const auto [KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE,

@@ -615,8 +615,11 @@ inline std::optional<NewtonOut> ellipsoid_finish(IVec ints, Vec f, Vec r, double
     bool embedded;
     const Int cols = ellipsoid_hull_columns(ints, f, r.n, embedded);
     if (cols < 0) return std::nullopt;
+    // W_L1 of soft fingers (6, 3) and of point contacts (6, 2)
     if (!embedded && r.n == 6 && cols == 3)
         return ellipsoid_finish_sized<6, 3>(ints, f, r, eps, Wt, lam, k, normal, t);
+    if (!embedded && r.n == 6 && cols == 2)
+        return ellipsoid_finish_sized<6, 2>(ints, f, r, eps, Wt, lam, k, normal, t);
     return ellipsoid_finish_sized(ints, f, r, eps, Wt, lam, k, normal, t);
 }
 

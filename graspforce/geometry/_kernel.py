@@ -23,13 +23,14 @@ active, children, plan] (each block nn long but `children` and the one entry `pl
     ostart[i]    offset of its point and value in `scratch`
     choice[i], active[i]   work arrays: a hull's best child (an origin embedding's child, or -1
                  for its origin), whether node i produced the point
-    plan         how `support` evaluates the program (GENERAL, ELLIPSOID_HULL or POSED_SUM
-                 below, decided by `plan_of` when the set compiles)
+    plan         how `support` evaluates the program (GENERAL, ELLIPSOID_HULL, ELLIPSE_HULL or
+                 POSED_SUM below, decided by `plan_of` when the set compiles)
 """
-from .._core import (AFFINE, BOX, CONE_CAP, ELLIPSOID, ELLIPSOID_HULL, EMBED, GENERAL, HULL,
-                    ORIGIN_EMBED, POLYTOPE, POSED_SUM, SUM, TRUNCATED_CONE, support)
+from .._core import (AFFINE, BOX, CONE_CAP, ELLIPSE_HULL, ELLIPSOID, ELLIPSOID_HULL, EMBED,
+                    GENERAL, HULL, ORIGIN_EMBED, POLYTOPE, POSED_SUM, SUM, TRUNCATED_CONE, support)
 
-__all__ = ["AFFINE", "BOX", "CONE_CAP", "ELLIPSOID", "ELLIPSOID_HULL", "EMBED", "GENERAL", "HULL",
+__all__ = ["AFFINE", "BOX", "CONE_CAP", "ELLIPSE_HULL", "ELLIPSOID", "ELLIPSOID_HULL", "EMBED",
+           "GENERAL", "HULL",
            "ORIGIN_EMBED", "POLYTOPE", "POSED_SUM", "SUM", "TRUNCATED_CONE", "BLOCKS",
            "children", "param_start", "params_size", "plan_of", "support"]
 
@@ -64,12 +65,14 @@ def plan_of(kind, dim, params, child_lists):
         return POSED_SUM
     if kind[0] != HULL:
         return GENERAL
+    axes = set()
     for c in child_lists[0]:
         leaf = child_lists[c][0] if kind[c] in (EMBED, ORIGIN_EMBED) else c
-        # an ellipsoid's parameters start [n, k]
-        if kind[leaf] != ELLIPSOID or dim[leaf] != 6 or params[leaf][1] != 3:
+        if kind[leaf] != ELLIPSOID or dim[leaf] != 6:
             return GENERAL
-    return ELLIPSOID_HULL
+        axes.add(params[leaf][1])          # an ellipsoid's parameters start [n, k]
+    return {frozenset({3}): ELLIPSOID_HULL, frozenset({2}): ELLIPSE_HULL}.get(frozenset(axes),
+                                                                             GENERAL)
 
 
 def children(ints, node):
