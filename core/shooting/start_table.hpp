@@ -122,9 +122,10 @@ Shot shoot_with_table(IVec ints, Vec floats, Vec r, Int ws, Int method, double e
          method == IE) &&
         table.n > 0) {
         const Int n = r.n;
-        // P (n + 2, n), B (n, n), y (n) in one array; Wt (n + 2, ws); lam (n + 2); scores (F)
+        // P (n + 2, n), B (n, n), y (n) in one array; Wt (n + 2, ws); lam (n + 2); scores (F,
+        // which table_start zeroes itself: a lift's table has ~700 facets)
         Array rows(2 * n + 3, n), Wt_a(n + 2, ws), lam_a(n + 2),
-            scores(static_cast<Int>(table[0]));
+            scores = Array::uninitialized(1, static_cast<Int>(table[0]));
         Mat P = rows.mat().rows_range(0, n + 2);
         Mat B = rows.mat().rows_range(n + 2, 2 * n + 2);
         Vec y = rows.mat().row(2 * n + 2);
