@@ -82,13 +82,15 @@ def test_ie_does_not_repeat_a_vertex_at_the_numerical_floor():
 def test_which_methods_and_grasps_shoot_the_lift():
     four = box_grasp()
     six = gf.Grasp(list(four.contacts) + list(four.contacts[:2]))
-    seven = gf.Grasp(list(six.contacts) + [four.contacts[0]])
+    eight = gf.Grasp(list(six.contacts) + list(four.contacts[2:4]))
+    nine = gf.Grasp(list(eight.contacts) + [four.contacts[0]])
     for method in gf.METHODS:
         lifted = method in LIFTED_METHODS
         assert four._space("Linf", "normal").target(method).set.dim == (9 if lifted else 6)
         assert six._space("Linf", "normal").target(method).set.dim == (11 if lifted else 6)
+        assert eight._space("Linf", "normal").target(method).set.dim == (13 if lifted else 6)
         assert four._space("L1", "normal").target(method).set.dim == 6
-        assert seven._space("Linf", "normal").target(method).set.dim == 6
+        assert nine._space("Linf", "normal").target(method).set.dim == 6
 
 
 def test_lift_halves_ie_steps_on_the_ingot():

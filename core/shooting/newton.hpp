@@ -206,8 +206,8 @@ inline NewtonOut failed(double t, double t_up, double h, Int steps, Int calls, A
 
 
 // The ellipsoid finish's limits: stack arrays for sets in up to R^FAST_N whose pieces' shapes have
-// up to FAST_N columns (W_Linf's lift of 6 contacts is in R^11)
-constexpr Int FAST_N = 12;
+// up to FAST_N columns (W_Linf's lift of 8 contacts is in R^13)
+constexpr Int FAST_N = 14;
 constexpr Int FAST_K = 2 * FAST_N + 1;   // unknowns u, lam, t
 
 // Solve K x = b (K (N, N) in FAST_K-strided rows, factored in lu) by LU with partial pivoting;

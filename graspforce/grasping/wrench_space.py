@@ -103,11 +103,12 @@ def lift_rows(m):
 # paper's sphere at lambda = 1e-6 lies 1e-7 off the ray, read as forces 1e-7 off the minimum;
 # the Newton finish takes more time there, not less (docs/design.md, "W_Linf's lift").
 LIFTED_METHODS = ("ie", "zc-ie", "zc-ie-paper")
-# ... and only for a few contacts: an IE step's algebra grows as (m + 5)^2 and the lift's steps
+# ... and only for a few contacts: an IE step's algebra grows as (m + 5)^2 and the lift's IE steps
 # stop halving (grasps on a sphere, lift over sum per call: m = 2 0.71, 4 0.60, 6 0.84, 8 0.99
 # since the lift's contact sets are embeddings, benchmarks/results/linf_lift.md; 0.73, 0.71,
-# 1.02, 1.28 before)
-LIFT_MAX_CONTACTS = 6
+# 1.02, 1.28 before); zc-ie's smooth finish takes the lift up to 8 (a humanoid's foot corners:
+# 74 -> 32 iterations, 50.9 -> 41.8 us, docs/design.md)
+LIFT_MAX_CONTACTS = 8
 # singular values of the contacts' maps below this fraction of the largest count as zero: an exact
 # deficiency leaves ~1e-16 (the rounding of G_i); where the dropped part spoils an answer, its
 # certificate in R^6 fails and the full-dimensional set answers
