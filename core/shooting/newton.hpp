@@ -928,13 +928,14 @@ bool smooth_finish_applies(IVec ints, Vec f, Int n) {
 }
 
 // newton_finish's plain steps where every piece of the exit face is smooth (`ellipsoid_finish`);
-// not ok, after no step, where a piece is flat or at its kink.
+// not ok, after no step and with no arrays, where a piece is flat or at its kink (most tries on
+// grasps whose friction is not saturated end so: ZC-IE reads only ok, steps and calls of it).
 NewtonOut smooth_finish(IVec ints, Vec f, Vec r, double eps, Mat Wt, Vec lam, Int k, Vec normal,
                         double t) {
     using namespace newton_detail;
     std::optional<NewtonOut> fast = ellipsoid_finish(ints, f, r, eps, Wt, lam, k, normal, t);
     if (fast) return std::move(*fast);
-    return ellipsoid_failed(t, INF, 0.0, 0, 0, r.n, Wt.cols);
+    return {false, t, INF, 0.0, 0, 0, 0, Array(), Array(), Array(), Array()};
 }
 
 }  // namespace gf
