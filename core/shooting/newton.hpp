@@ -212,7 +212,10 @@ constexpr Int FAST_K = 2 * FAST_N + 1;   // unknowns u, lam, t
 
 // Solve K x = b (K (N, N) in FAST_K-strided rows, factored in lu) by LU with partial pivoting;
 // false when a pivot is below 1e-14 of K's largest entry (lu_factor's test).
-inline bool small_solve(const double* K, double* lu, const double* b, double* x, Int N) {
+// Compiled for NN unknowns (the loops unroll), or for any when NN is 0.
+template <int NN = 0>
+inline bool small_solve(const double* K, double* lu, const double* b, double* x, Int N_) {
+    const Int N = NN > 0 ? NN : N_;
     double scale = 0.0;
     for (Int i = 0; i < N; ++i) {
         x[i] = b[i];
@@ -250,6 +253,19 @@ inline bool small_solve(const double* K, double* lu, const double* b, double* x,
         x[i] = s / lu[i * FAST_K + i];
     }
     return true;
+}
+
+// small_solve for the sizes of W_L1 in R^6 (n + m + 1 = 8..13 unknowns for m = 1..6 pieces)
+inline bool small_solve_r6(const double* K, double* lu, const double* b, double* x, Int N) {
+    switch (N) {
+        case 8: return small_solve<8>(K, lu, b, x, N);
+        case 9: return small_solve<9>(K, lu, b, x, N);
+        case 10: return small_solve<10>(K, lu, b, x, N);
+        case 11: return small_solve<11>(K, lu, b, x, N);
+        case 12: return small_solve<12>(K, lu, b, x, N);
+        case 13: return small_solve<13>(K, lu, b, x, N);
+        default: return small_solve(K, lu, b, x, N);
+    }
 }
 
 // The column count shared by the ellipsoid leaves of a smooth hull (piece::SmoothLeaf: a root
@@ -571,7 +587,7 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
         rhs[n + m] = 1.0 - total;
         // singular where the face's normal cone is wider than a ray (one soft finger's
         // 3-D ellipsoid in R^6): a basic solution, as the general path's
-        if (!small_solve(K, lu, rhs, dx, N) &&
+        if (!(FN == 6 ? small_solve_r6(K, lu, rhs, dx, N) : small_solve(K, lu, rhs, dx, N)) &&
             solve_basic(Mat{K, N, N, FAST_K}, N, Mat{lu, N, N, FAST_K}, IVec{prow, N},
                         IVec{pcol, N}, Vec{rhs, N}, Vec{dx, N}) <= n)
             return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
