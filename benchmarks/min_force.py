@@ -27,7 +27,7 @@ import sys
 import numpy as np
 
 from benchmarks.grasp_sets import MU, MU_S, cone_outside, ingot_grasp, random_wrenches
-from benchmarks.ray_shoot import PAPER_TABLES, _cpu_name, _timed_pass, core_description
+from benchmarks.ray_shoot import PAPER_NAMES, PAPER_TABLES, _cpu_name, _timed_pass, core_description
 
 METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie-paper", "zc-ie", "zc-ie-newton")
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -123,8 +123,7 @@ def paper_table(all_rows):
              "| paper Linf iters | our Linf us | our Linf iters |",
              "|---|---|---|---|---|---|---|---|---|"]
     ours = {norm: {r["name"]: r for r in rows} for (norm, _), rows in all_rows.items()}
-    # the paper's ZC-IE is "zc-ie-paper" here ("zc-ie" adds the Newton finish's smooth path)
-    names = {"active-set": "clarabel SOCP (update)", "zc-ie": "zc-ie-paper"}
+    names = {**PAPER_NAMES, "active-set": "clarabel SOCP (update)"}
     for i, m in enumerate(paper["methods"]):
         name = names.get(m, m)
         cells = [name if m != "active-set" else "active-set (paper) / clarabel SOCP update (ours)"]

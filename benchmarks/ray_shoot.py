@@ -43,6 +43,8 @@ from graspforce.geometry._start_table import NO_TABLE
 # that every later shot at the same set gets (the warm-up pass builds it for the other rows)
 COLD = "zc-ie (no start table)"
 METHODS = ("gjk", "ie", "zc", "bi-gjk", "zc-ie-paper", "zc-ie", COLD, "zc-ie-newton")
+# our names of the paper's methods where they differ: its ZC-IE is "zc-ie-paper" ("zc-ie" adds
+# the Newton finish's smooth path)
 PAPER_NAMES = {"zc-ie": "zc-ie-paper"}
 HERE = os.path.dirname(os.path.abspath(__file__))
 PAPER_TABLES = os.path.join(os.path.dirname(os.path.dirname(HERE)), "shared", "reference",
@@ -342,7 +344,6 @@ def run(n_wrenches=1000, eps=1e-9, seed=0, methods=METHODS, out_path=None, log=p
     ours = {r["method"]: r for r in rows}
     for m in pm:
         ms, it = paper_row[m]
-        # the paper's ZC-IE is "zc-ie-paper" here ("zc-ie" adds the Newton finish)
         ours_m = PAPER_NAMES.get(m, m)
         if ours_m in ours:
             r = ours[ours_m]

@@ -414,7 +414,6 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
     if (!(nr > 0.0) || !(t > 0.0)) return std::nullopt;
     double u[FAST_N];
     for (Int i = 0; i < n; ++i) u[i] = normal[i] / (t * nr);
-    double uu = 0.0;
     // flat pieces (the general path's test, in the leaf's coordinates; a piece of weight 0 by
     // its vertices' plain mean)
     for (Int p = 0; p < m; ++p) {
@@ -424,8 +423,7 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
         const Int nc = n - lead;
         const Int kk = FK > 0 ? FK : static_cast<Int>(f[pp + 1]);
         const Int s0 = pp + 2 + nc;
-        double tu = 0.0, tt = 0.0, x2 = 0.0;
-        uu = 0.0;
+        double tu = 0.0, tt = 0.0, x2 = 0.0, uu = 0.0;
         for (Int a = lead; a < n; ++a) uu += u[a] * u[a];
         for (Int b = 0; b < kk; ++b) {
             double s = 0.0;
@@ -506,8 +504,7 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
                 not_yet();
                 continue;
             }
-            double ur = 0.0;
-            uu = 0.0;
+            double ur = 0.0, uu = 0.0;
             for (Int i = 0; i < n; ++i) {
                 ur += u[i] * r[i];
                 uu += u[i] * u[i];

@@ -30,9 +30,8 @@ from .._core import (AFFINE, BOX, CONE_CAP, ELLIPSE_HULL, ELLIPSOID, ELLIPSOID_H
                     GENERAL, HULL, ORIGIN_EMBED, POLYTOPE, POSED_SUM, SUM, TRUNCATED_CONE, support)
 
 __all__ = ["AFFINE", "BOX", "CONE_CAP", "ELLIPSE_HULL", "ELLIPSOID", "ELLIPSOID_HULL", "EMBED",
-           "GENERAL", "HULL",
-           "ORIGIN_EMBED", "POLYTOPE", "POSED_SUM", "SUM", "TRUNCATED_CONE", "BLOCKS",
-           "children", "param_start", "params_size", "plan_of", "support"]
+           "GENERAL", "HULL", "ORIGIN_EMBED", "POLYTOPE", "POSED_SUM", "SUM", "TRUNCATED_CONE",
+           "BLOCKS", "children", "param_start", "params_size", "plan_of", "support"]
 
 # the blocks of `ints` after nn, in order (core/codes.hpp's `blocks` gives their offsets)
 BLOCKS = ("kind", "dim", "pstart", "cstart", "ccount", "wstart", "dstart", "ostart", "choice",

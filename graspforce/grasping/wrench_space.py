@@ -101,7 +101,8 @@ def lift_rows(m):
 # the methods that shoot W_Linf's lift: IE's steps halve there. The distance-based ones gain
 # nothing (ZC-based, Bi-GJK) or lose digits in R^(m + 5): GJK-based's final simplex on the
 # paper's sphere at lambda = 1e-6 lies 1e-7 off the ray, read as forces 1e-7 off the minimum;
-# the Newton finish takes more time there, not less (docs/design.md, "W_Linf's lift").
+# zc-ie-newton's general Newton finish takes more time there, not less (docs/design.md, "W_Linf's
+# lift"); zc-ie's smooth path takes fewer steps.
 LIFTED_METHODS = ("ie", "zc-ie", "zc-ie-paper")
 # ... and only for a few contacts: an IE step's algebra grows as (m + 5)^2 and the lift's IE steps
 # stop halving (grasps on a sphere, lift over sum per call: m = 2 0.71, 4 0.60, 6 0.84, 8 0.99
