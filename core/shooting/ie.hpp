@@ -235,6 +235,16 @@ Shot ie_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Mat
     Int singular = 0;
     bool queried = false;  // a support call of this loop bounds t from above
     bool closed = false;   // and its stopping rule held
+    // the pool of points or the list of facets is full: the shot ends unfinished, as it stands
+    auto out_of_room = [&]() {
+        return ie_result(LIMIT, t, pool, pwit, C.f(best), C.gam(best), nvec, h, ny, r, it, calls,
+                         singular);
+    };
+    // rounding left no candidate facet crossing the ray: ZC-based iterations finish from the best
+    auto from_best = [&]() {
+        return from_facet(ints, floats, r, ws, eps, max_iter, t, pool, pwit, C.f(best),
+                          C.gam(best), it, calls);
+    };
     while (it < max_iter) {
         // the facet of F_k nearest the origin: largest ||y||
         best = 0;
@@ -256,9 +266,7 @@ Shot ie_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Mat
             closed = true;
             break;
         }
-        if (npts == cap_pts)
-            return ie_result(LIMIT, t, pool, pwit, C.f(best), C.gam(best), nvec, h, ny, r, it,
-                             calls, singular);
+        if (npts == cap_pts) return out_of_room();
         const Int q = npts;
         for (Int i = 0; i < n; ++i) pool(q, i) = point[i];
         for (Int i = 0; i < ws; ++i) pwit(q, i) = wit[i];
@@ -310,15 +318,10 @@ Shot ie_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Mat
                         nf2 = 0;
                     }
                     nf2 = push(C2, nf2, idx, y, gam);
-                    if (nf2 < 0)
-                        return ie_result(LIMIT, t, pool, pwit, C.f(best), C.gam(best), nvec, h,
-                                         ny, r, it, calls, singular);
+                    if (nf2 < 0) return out_of_room();
                 }
             }
-            if (nf2 == 0)
-                // rounding left no candidate crossing the ray: finish with ZC-based iterations
-                return from_facet(ints, floats, r, ws, eps, max_iter, t, pool, pwit, C.f(best),
-                                  C.gam(best), it, calls);
+            if (nf2 == 0) return from_best();
             t = t_best;
         } else {
             // case 2: keep the facets s does not see; join s to the ridges that contain S_k
@@ -350,14 +353,10 @@ Shot ie_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Mat
                     idx[a] = q;
                     if (!facet(pool, idx, r, M, lu, piv, ones, y, gam)) continue;
                     nf2 = push(C2, nf2, idx, y, gam);
-                    if (nf2 < 0)
-                        return ie_result(LIMIT, t, pool, pwit, C.f(best), C.gam(best), nvec, h,
-                                         ny, r, it, calls, singular);
+                    if (nf2 < 0) return out_of_room();
                 }
             }
-            if (nf2 == 0)
-                return from_facet(ints, floats, r, ws, eps, max_iter, t, pool, pwit, C.f(best),
-                                  C.gam(best), it, calls);
+            if (nf2 == 0) return from_best();
         }
         nf = nf2;
         if (nf > 1) singular += 1;  // b_k sits on a face of dimension < n - 1 shared by nf facets
