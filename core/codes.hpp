@@ -22,6 +22,10 @@ constexpr Int GENERAL = 0;
 constexpr Int ELLIPSOID_HULL = 1;   // a hull of ellipsoids (6, 3) in R^6, bare or embedded
 constexpr Int POSED_SUM = 2;
 constexpr Int ELLIPSE_HULL = 3;     // the same of ellipses (6, 2): point contacts
+// an affine image x -> M x + t of ELLIPSOID_HULL's or ELLIPSE_HULL's set (a rank-deficient
+// grasp's wrench set in its span)
+constexpr Int PROJECTED_ELLIPSOID_HULL = 4;
+constexpr Int PROJECTED_ELLIPSE_HULL = 5;
 
 // the offsets in `ints` of a program's blocks, for a program of nn nodes
 struct Blocks {

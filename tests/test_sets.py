@@ -291,22 +291,34 @@ def _support_by(plan, A, u):
 def test_ellipsoid_hulls_take_one_loop_that_matches_the_general_passes():
     # the wrench sets of soft fingers (ellipsoids in R^6 with 3 axes: ELLIPSOID_HULL) and of
     # point contacts (2 axes: ELLIPSE_HULL), bare (W_L1) or lifted (W_Linf's lift, the origin
-    # winning for directions that all cones oppose): the plan's loop gives the four passes'
-    # value, point and witnesses; anything else keeps the passes (graspforce.geometry._kernel)
+    # winning for directions that all cones oppose), and their affine images (a rank-deficient
+    # grasp's sets in its span: PROJECTED_*): the plan's loop gives the four passes' value,
+    # point and witnesses; anything else keeps the passes (graspforce.geometry._kernel)
     from graspforce.geometry import _kernel as K
     from graspforce.grasping.wrench_space import lift_rows, lift_summand
     rng = np.random.default_rng(25)
     sets = []
-    for axes, plan in ((3, K.ELLIPSOID_HULL), (2, K.ELLIPSE_HULL)):
+    for axes, plan, projected in ((3, K.ELLIPSOID_HULL, K.PROJECTED_ELLIPSOID_HULL),
+                                  (2, K.ELLIPSE_HULL, K.PROJECTED_ELLIPSE_HULL)):
         W = [gf.Ellipsoid(*random_ellipsoid(rng, 6, axes, c_scale=1.0)) for _ in range(4)]
-        sets += [(W, plan, gf.hull(*W)),
-                 (W, plan, gf.hull(*[lift_summand(W_i, e) for W_i, e in zip(W, lift_rows(4))]))]
-    for W, plan, A in sets:
+        lift = gf.hull(*[lift_summand(W_i, e) for W_i, e in zip(W, lift_rows(4))])
+        # a span's basis Q (6, 5): the lift's image keeps its contact coordinates
+        Q = np.linalg.qr(rng.standard_normal((6, 5)))[0]
+        lift_map = np.block([[np.eye(3), np.zeros((3, 6))], [np.zeros((5, 3)), Q.T]])
+        sets += [(W, plan, gf.hull(*W), None), (W, plan, lift, None),
+                 (W, projected, gf.affine(Q.T, gf.hull(*W), rng.standard_normal(5)), Q),
+                 (W, projected, gf.affine(lift_map, lift), Q)]
+    for W, plan, A, Q in sets:
         assert A.program[0][-1] == plan
         dirs = unit_dirs(rng, A.dim, 200)
-        # the lift's origins: the wrench part against every cone, a contact coordinate ahead
-        against = np.concatenate((np.zeros(A.dim - 6), -np.mean([w.center for w in W], 0)))
-        dirs = np.vstack((dirs, against, against + np.eye(A.dim)[0]))
+        # the lift's origins: the wrench part against the cones (in a span, its coordinates
+        # Q^T), the contact coordinates zero or large, which picks one contact's embedding
+        against = -np.mean([w.center for w in W], 0)
+        if Q is not None:
+            against = Q.T @ against
+        lead = A.dim - against.size
+        ahead = np.vstack((np.zeros(lead), 10.0 * rng.standard_normal((20, lead))))
+        dirs = np.vstack((dirs, np.hstack((ahead, np.tile(against, (21, 1))))))
         origins = 0
         for u in dirs:
             h, point, wit = _support_by(plan, A, u)
@@ -316,7 +328,8 @@ def test_ellipsoid_hulls_take_one_loop_that_matches_the_general_passes():
             flags = wit_ref == np.round(wit_ref)
             assert np.abs(wit - wit_ref).max() <= 1e-14 * max(1.0, np.abs(wit_ref).max())
             assert (wit[flags] == wit_ref[flags]).all()
-            origins += not point[A.dim - 6:].any() if A.dim > 6 else 0
+            # the origin chosen: no ellipsoid's slot (1 + k entries; an origin's has 2) flagged
+            origins += not any(wit[start] for start, size in A._witness_slots if size > 2)
         if A.dim > 6:
             assert origins >= 2
     mixed = gf.hull(gf.Ellipsoid(*random_ellipsoid(rng, 6, 3)),

@@ -12,6 +12,7 @@ from test_certificates import EPS, METHODS, OBJECTIVES, check_answer
 
 import graspforce as gf
 from graspforce.grasping import wrench_space as WS
+from graspforce.geometry import _kernel as K
 from graspforce.geometry.sets import Affine
 
 
@@ -108,6 +109,9 @@ def test_rank_deficient_grasps_shoot_in_the_span(case, monkeypatch):
                 A = shot.convex_set
                 lifted = norm == "Linf" and method in WS.LIFTED_METHODS and m > 1
                 assert isinstance(A, Affine) and A.dim == k + (m - 1 if lifted else 0), ctx
+                if case < 4 and magnitude == "normal" and (norm == "L1" or lifted):
+                    # a pinch's ellipses, bare or lifted: their loop under the projection
+                    assert A.program[0][-1] == K.PROJECTED_ELLIPSE_HULL, ctx
                 r = np.zeros(A.matrix.shape[1])
                 r[-6:] = -w
                 assert np.allclose(shot.r, A.matrix @ r, rtol=0, atol=1e-15 * np.abs(w).max())

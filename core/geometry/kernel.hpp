@@ -10,8 +10,9 @@
 // values flow up (a hull keeps its best child, a sum adds), the leaves that produced the point
 // are flagged in the witness vector, and the support point is built up from the flagged nodes
 // only. Three program shapes take loops of their own instead of the passes (their plan): the soft
-// fingers' wrench sets (ELLIPSOID_HULL), the point contacts' (ELLIPSE_HULL) and sums of posed
-// 3-D bodies, growth distance's Delta (POSED_SUM).
+// fingers' wrench sets (ELLIPSOID_HULL), the point contacts' (ELLIPSE_HULL), either's affine
+// image (PROJECTED_ELLIPSOID_HULL, PROJECTED_ELLIPSE_HULL) and sums of posed 3-D bodies, growth
+// distance's Delta (POSED_SUM).
 //
 // A program is two arrays: `ints` = [nn, kind, dim, pstart, cstart, ccount, wstart, dstart,
 // ostart, choice, active, children, plan] (each block nn long but `children` and the one entry
@@ -270,20 +271,21 @@ struct ConeSupport {
 // point: the four passes' value, point and witnesses (the same flags and ties), at 112 ns a call
 // on the ingot's W_Linf lift against 189, 89 against 127 on its W_L1. The passes pay for what a
 // general tree needs: each node's kind and offsets are read in every pass, and its direction,
-// value and point go through the scratch part of `floats`.
+// value and point go through the scratch part of `floats`. `root`: the hull's node (1 under a
+// projection).
 template <int K>
-inline double ellipsoid_hull(IVec ints, Vec f, Vec u, Vec point, Vec wit) {
+inline double ellipsoid_hull(IVec ints, Vec f, Vec u, Vec point, Vec wit, Int root = 0) {
     const Int nn = ints[0];
     const auto [KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE,
                 CHILDREN] = blocks(nn);
-    const Int n0 = ints[DIM];
+    const Int n0 = ints[DIM + root];
     const Int lead = n0 - 6;   // an embedding's leading entries (the lift's contact coordinates)
-    const Int first = CHILDREN + ints[CSTART];
+    const Int first = CHILDREN + ints[CSTART + root];
     double best = -INF;
     Int arg = ints[first];
     bool origin = false;       // the best child is an origin embedding's origin
     double bx[K] = {};
-    for (Int c = 0; c < ints[CCOUNT]; ++c) {
+    for (Int c = 0; c < ints[CCOUNT + root]; ++c) {
         const Int i = ints[first + c];
         const Int k = ints[KIND + i];
         const Int leaf = k < HULL ? i : ints[CHILDREN + ints[CSTART + i]];
@@ -355,6 +357,35 @@ inline double ellipsoid_hull(IVec ints, Vec f, Vec u, Vec point, Vec wit) {
         point[lead + a] += s;
     }
     return best;
+}
+
+// `support` for the plans PROJECTED_ELLIPSOID_HULL and PROJECTED_ELLIPSE_HULL: the root maps
+// x -> M x + t over node 1, a hull that ellipsoid_hull takes (a rank-deficient grasp's wrench
+// set in its span, M = Q^T D). M^T u goes to node 1's direction and its point to node 1's
+// point, as in the passes, where an affine node adds no witness: h_A(M^T u) + t^T u and
+// M s + t, summed in the passes' order.
+template <int K>
+inline double projected_ellipsoid_hull(IVec ints, Vec f, Vec u, Vec point, Vec wit) {
+    const Blocks B = blocks(ints[0]);
+    const Int m = ints[B.DIM];
+    const Int nc = ints[B.DIM + 1];
+    const Int M0 = ints[B.PSTART] + 2;   // M (m, nc) row-major, then t (m)
+    const Vec v = f.segment(ints[B.DSTART + 1], nc);
+    const Vec s = f.segment(ints[B.OSTART + 1], nc);
+    for (Int b = 0; b < nc; ++b) {
+        double x = 0.0;
+        for (Int a = 0; a < m; ++a) x += f[M0 + a * nc + b] * u[a];
+        v[b] = x;
+    }
+    double h = ellipsoid_hull<K>(ints, f, v, s, wit, 1);
+    const Int t0 = M0 + m * nc;
+    for (Int a = 0; a < m; ++a) h += f[t0 + a] * u[a];
+    for (Int a = 0; a < m; ++a) {
+        double x = f[t0 + a];
+        for (Int b = 0; b < nc; ++b) x += f[M0 + a * nc + b] * s[b];
+        point[a] = x;
+    }
+    return h;
 }
 
 // `support` for the plan POSED_SUM: the root sums children x -> M x + t in R^3, each over a
@@ -443,6 +474,9 @@ double support(IVec ints, Vec f, Vec u, Vec point, Vec wit) {
     const Int plan = ints[ints.n - 1];
     if (plan == ELLIPSOID_HULL) return ellipsoid_hull<3>(ints, f, u, point, wit);
     if (plan == ELLIPSE_HULL) return ellipsoid_hull<2>(ints, f, u, point, wit);
+    if (plan == PROJECTED_ELLIPSOID_HULL)
+        return projected_ellipsoid_hull<3>(ints, f, u, point, wit);
+    if (plan == PROJECTED_ELLIPSE_HULL) return projected_ellipsoid_hull<2>(ints, f, u, point, wit);
     if (plan == POSED_SUM) return posed_sum(ints, f, u, point, wit);
     const Int nn = ints[0];
     const auto [KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE,

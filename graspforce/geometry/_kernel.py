@@ -5,9 +5,10 @@ its children) in flat arrays. `support` (core/geometry/kernel.hpp) evaluates h_A
 eq. (2) for any program in four passes: directions flow down the tree (an affine node maps u to M^T
 u), support values flow up (a hull keeps its best child, a sum adds), the leaves that produced the
 point are flagged in the witness vector, and the support point is built up from the flagged nodes
-only. Every algorithm is compiled once against this kernel, whatever the shape. Two program shapes
-take loops of their own instead of the passes (their `plan`): the soft fingers' wrench sets, shot at
-on every min_force call, and sums of posed 3-D bodies, growth distance's Delta.
+only. Every algorithm is compiled once against this kernel, whatever the shape. Some program shapes
+take loops of their own instead of the passes (their `plan`): the contacts' wrench sets, shot at on
+every min_force call (hulls of ellipsoids in R^6, bare or lifted, or their affine image in the span
+of a rank-deficient grasp), and sums of posed 3-D bodies, growth distance's Delta.
 
 A program is two arrays, `ints` and `floats`, so that a call from Python unboxes two arrays, not
 twelve. `ints` = [nn, kind, dim, pstart, cstart, ccount, wstart, dstart, ostart, choice,
@@ -23,15 +24,18 @@ active, children, plan] (each block nn long but `children` and the one entry `pl
     ostart[i]    offset of its point and value in `scratch`
     choice[i], active[i]   work arrays: a hull's best child (an origin embedding's child, or -1
                  for its origin), whether node i produced the point
-    plan         how `support` evaluates the program (GENERAL, ELLIPSOID_HULL, ELLIPSE_HULL or
-                 POSED_SUM below, decided by `plan_of` when the set compiles)
+    plan         how `support` evaluates the program (GENERAL, ELLIPSOID_HULL, ELLIPSE_HULL,
+                 PROJECTED_ELLIPSOID_HULL, PROJECTED_ELLIPSE_HULL or POSED_SUM below, decided
+                 by `plan_of` when the set compiles)
 """
 from .._core import (AFFINE, BOX, CONE_CAP, ELLIPSE_HULL, ELLIPSOID, ELLIPSOID_HULL, EMBED,
-                    GENERAL, HULL, ORIGIN_EMBED, POLYTOPE, POSED_SUM, SUM, TRUNCATED_CONE, support)
+                    GENERAL, HULL, ORIGIN_EMBED, POLYTOPE, POSED_SUM, PROJECTED_ELLIPSE_HULL,
+                    PROJECTED_ELLIPSOID_HULL, SUM, TRUNCATED_CONE, support)
 
 __all__ = ["AFFINE", "BOX", "CONE_CAP", "ELLIPSE_HULL", "ELLIPSOID", "ELLIPSOID_HULL", "EMBED",
-           "GENERAL", "HULL", "ORIGIN_EMBED", "POLYTOPE", "POSED_SUM", "SUM", "TRUNCATED_CONE",
-           "BLOCKS", "children", "param_start", "params_size", "plan_of", "support"]
+           "GENERAL", "HULL", "ORIGIN_EMBED", "POLYTOPE", "POSED_SUM", "PROJECTED_ELLIPSE_HULL",
+           "PROJECTED_ELLIPSOID_HULL", "SUM", "TRUNCATED_CONE", "BLOCKS", "children",
+           "param_start", "params_size", "plan_of", "support"]
 
 # the blocks of `ints` after nn, in order (core/codes.hpp's `blocks` gives their offsets)
 BLOCKS = ("kind", "dim", "pstart", "cstart", "ccount", "wstart", "dstart", "ostart", "choice",
@@ -62,10 +66,21 @@ def plan_of(kind, dim, params, child_lists):
             if kind[c] != AFFINE or kind[leaf] >= HULL or dim[leaf] != 3:
                 return GENERAL
         return POSED_SUM
-    if kind[0] != HULL:
+    if kind[0] == AFFINE:
+        # x -> M x + t over such a hull (node 1): a rank-deficient grasp's set in its span
+        return {ELLIPSOID_HULL: PROJECTED_ELLIPSOID_HULL,
+                ELLIPSE_HULL: PROJECTED_ELLIPSE_HULL}.get(
+                    _hull_plan(kind, dim, params, child_lists, child_lists[0][0]), GENERAL)
+    return _hull_plan(kind, dim, params, child_lists, 0)
+
+
+def _hull_plan(kind, dim, params, child_lists, root):
+    """ELLIPSOID_HULL or ELLIPSE_HULL when node `root` is a hull of ellipsoids in R^6 with 3 or
+    2 axes each, bare or embedded; else GENERAL."""
+    if kind[root] != HULL:
         return GENERAL
     axes = set()
-    for c in child_lists[0]:
+    for c in child_lists[root]:
         leaf = child_lists[c][0] if kind[c] in (EMBED, ORIGIN_EMBED) else c
         if kind[leaf] != ELLIPSOID or dim[leaf] != 6:
             return GENERAL
