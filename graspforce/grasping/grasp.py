@@ -5,7 +5,7 @@ import numpy as np
 
 from .._core import BAD_WRENCH, FULL_SET, HIT, MISS, ZERO_WRENCH, shoot_and_read_forces
 from ..geometry._start_table import UNSEEN, start_table
-from .._validate import check_choice, finite_array, finite_scalar, finite_vector, is_vector
+from .._validate import check_choice, finite_array, finite_scalar, finite_vector
 from .contact import Contact
 from .quality import facet_expansion, grasp_quality
 from ..shooting.ray_shoot import METHODS, check_tolerances
@@ -137,11 +137,13 @@ class Grasp:
         eps, max_iter = check_tolerances(eps, max_iter)
         start = start_table(A, ray_dims)
         packed = np.empty(size)
-        # the common call, a float64 (6,) array, goes straight to the compiled code, which also
-        # checks it; anything else, or a refused wrench, is converted or refused here
-        head = None
-        if is_vector(w_ext):
+        # the common call, a float64 (6,) array, goes straight to the compiled code, which
+        # checks it too; anything else (which the compiled code does not take: a TypeError), or
+        # a refused wrench, is converted or refused here
+        try:
             head = shoot(w_ext, code, eps, max_iter, packed, start, *args)
+        except TypeError:
+            head = None
         if head is None or head[0] == BAD_WRENCH:
             # a new C-contiguous float64 array: the type the compiled code takes
             w_ext = np.array(finite_vector(w_ext, "w_ext", 6)[0])
