@@ -6,7 +6,8 @@ its plan entry set to GENERAL runs the four passes every other program runs. Bot
 one process, round by round (least of ROUNDS), inside a compiled loop over random unit directions
 (graspforce._core.timing.support_loop), after checking that they return the same value, point
 and witnesses. Sets: the ingot grasp's W_L1 (R^6) and W_Linf's lift (R^9, what min_force shoots
-for Linf); the growth protocol's
+for Linf); a two-point-contact pinch's W_L1 in its wrenches' span (R^5, an affine image of a hull
+of ellipses: what min_force shoots for it); the growth protocol's
 Delta = R_A(A_0) - R_B(B_0) (an ellipsoid and a truncated cone, leaves the plan evaluates in
 registers), the same for a box and a polytope (leaves it evaluates by the passes' leaf code), and,
 as a program that keeps the passes, a capsule's Delta (a sum under each pose).
@@ -16,6 +17,7 @@ as a program that keeps the passes, a capsule's Delta (a sum under each pose).
 import numpy as np
 
 import graspforce as gf
+from benchmarks.families import FAMILIES
 from benchmarks.grasp_sets import ingot_grasp
 from benchmarks.growth_sets import protocol_pairs
 from graspforce.geometry import _kernel as K
@@ -50,9 +52,11 @@ def sets():
         growth = gf.GrowthDistance(A, B, warm_start=False)
         growth(*poses)                                                  # writes the poses
         deltas[f"growth Delta ({name})"] = growth.delta
+    pinch, loads = FAMILIES["pinch"](np.random.default_rng(0), 1)
     return {"ingot W_L1": gf.hull(*W),
             "ingot W_Linf lift": gf.hull(*[lift_summand(W_i, e)
                                            for W_i, e in zip(W, lift_rows(len(W)))]),
+            "pinch W_L1 in its span": pinch.min_force(loads[0]).shot.convex_set,
             **deltas}
 
 
@@ -90,7 +94,9 @@ def main():
             for key, program in (("plan", ints), ("general", general)):
                 best[key] = min(best[key], _loop(program, floats, U, REPS, A.witness_size))
         plan = {K.GENERAL: "GENERAL", K.ELLIPSOID_HULL: "ELLIPSOID_HULL",
-                K.ELLIPSE_HULL: "ELLIPSE_HULL", K.POSED_SUM: "POSED_SUM"}[int(ints[-1])]
+                K.ELLIPSE_HULL: "ELLIPSE_HULL", K.POSED_SUM: "POSED_SUM",
+                K.PROJECTED_ELLIPSOID_HULL: "PROJECTED_ELLIPSOID_HULL",
+                K.PROJECTED_ELLIPSE_HULL: "PROJECTED_ELLIPSE_HULL"}[int(ints[-1])]
         rows.append((name, plan, best["plan"], best["general"], _same_answers(A, U[:200])))
     print("| set | plan | plan's loop (ns) | four passes (ns) | passes / plan | max difference |")
     print("|---|---|---|---|---|---|")
