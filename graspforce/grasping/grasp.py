@@ -223,12 +223,9 @@ class Grasp:
         if ray is not None and status == "max_iter":
             t_up = ray[2][2]
             lower = 1.0 / (t_scale * t_up) if t_up > 0.0 else 0.0
-        return MinForce(
-            feasible=sigma == 0.0, status=status, sigma=sigma, sigma_lower=lower,
-            forces=np.zeros((m, 4)), world_forces=np.zeros((m, 3)), wrenches=np.zeros((m, 6)),
-            resultant=np.zeros(6), norm=space.norm, magnitude=space.magnitude, method=method,
-            iterations=0 if ray is None else int(ray[2][4]),
-            support_calls=0 if ray is None else int(ray[2][5]), ray=ray)
+        head = (0, 0, 0, 0, 0, 0) if ray is None else ray[2]
+        return MinForce.without_forces(sigma == 0.0, status, sigma, lower, space.norm,
+                                       space.magnitude, method, head[4], head[5], ray, m)
 
     def is_force_closure(self, tol=1e-9, max_iter=2000):
         """Whether the contacts can resist every wrench: the origin is interior to W (eq. 14).

@@ -248,15 +248,40 @@ class MinForce:
         record._contacts = m
         return record
 
+    @classmethod
+    def without_forces(cls, feasible, status, sigma, sigma_lower, norm, magnitude, method,
+                       iterations, support_calls, ray, m):
+        """An answer without contact forces (a zero wrench, an infeasible or undecided one) for
+        m contacts: its force arrays are zeros, made on first use."""
+        record = cls.__new__(cls)
+        record.feasible = feasible
+        record.status = status
+        record.sigma = sigma
+        record.sigma_lower = sigma_lower
+        record.norm = norm
+        record.magnitude = magnitude
+        record.method = method
+        record.iterations = iterations
+        record.support_calls = support_calls
+        record.ray = ray
+        record._contacts = m
+        record._forces = None
+        return record
+
     def _arrays(self):
         try:
-            return self._forces
+            forces = self._forces
         except AttributeError:
             packed = self.ray[3]
             packed.flags.writeable = False
             forces, wrenches, resultant = force_views(packed, self._contacts)
             self._forces = (forces, wrenches[:, :3], wrenches, resultant)
             return self._forces
+        if forces is None:
+            m = self._contacts
+            forces = self._forces = (np.zeros((m, 4)), np.zeros((m, 3)), np.zeros((m, 6)),
+                                     np.zeros(6))
+        return forces
 
     forces = _force_array(0, "(m, 4) local (normal force, two tangential forces, spin moment)")
     world_forces = _force_array(1, "(m, 3) the contact forces in the world frame")
