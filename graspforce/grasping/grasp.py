@@ -223,9 +223,8 @@ class Grasp:
         if ray is not None and status == "max_iter":
             t_up = ray[2][2]
             lower = 1.0 / (t_scale * t_up) if t_up > 0.0 else 0.0
-        head = (0, 0, 0, 0, 0, 0) if ray is None else ray[2]
         return MinForce.without_forces(sigma == 0.0, status, sigma, lower, space.norm,
-                                       space.magnitude, method, head[4], head[5], ray, m)
+                                       space.magnitude, method, ray, m)
 
     def is_force_closure(self, tol=1e-9, max_iter=2000):
         """Whether the contacts can resist every wrench: the origin is interior to W (eq. 14).

@@ -184,6 +184,9 @@ class ConeDistance:
     support_calls: int
 
 
+_NO_SHOT = (0, 0.0, 0.0, 0.0, 0, 0, 0, 0)   # the head of a call that shot nothing (a zero wrench)
+
+
 def _force_array(index, doc):
     """A MinForce array, read from the packed answer on first access."""
     return property(lambda record: record._arrays()[index], doc=doc)
@@ -230,12 +233,14 @@ class MinForce:
         self._forces = (forces, world_forces, wrenches, resultant)
 
     @classmethod
-    def from_packed(cls, status, sigma, sigma_lower, norm, magnitude, method, ray, m):
-        """The feasible answer of a ray shot whose packed array holds the forces of m contacts
-        (graspforce.records._forces); the arrays are read on first use."""
-        head = ray[2]
+    def from_packed(cls, status, sigma, sigma_lower, norm, magnitude, method, ray, m,
+                    feasible=True, head=None):
+        """The answer of a ray shot whose packed array holds the forces of m contacts
+        (graspforce.records._forces); the arrays are read on first use. head: the shot's (ray's
+        own by default)."""
+        head = ray[2] if head is None else head
         record = cls.__new__(cls)
-        record.feasible = True
+        record.feasible = feasible
         record.status = status
         record.sigma = sigma
         record.sigma_lower = sigma_lower
@@ -249,22 +254,12 @@ class MinForce:
         return record
 
     @classmethod
-    def without_forces(cls, feasible, status, sigma, sigma_lower, norm, magnitude, method,
-                       iterations, support_calls, ray, m):
-        """An answer without contact forces (a zero wrench, an infeasible or undecided one) for
-        m contacts: its force arrays are zeros, made on first use."""
-        record = cls.__new__(cls)
-        record.feasible = feasible
-        record.status = status
-        record.sigma = sigma
-        record.sigma_lower = sigma_lower
-        record.norm = norm
-        record.magnitude = magnitude
-        record.method = method
-        record.iterations = iterations
-        record.support_calls = support_calls
-        record.ray = ray
-        record._contacts = m
+    def without_forces(cls, feasible, status, sigma, sigma_lower, norm, magnitude, method, ray,
+                       m):
+        """An answer without contact forces (a zero wrench: no ray; an infeasible or undecided
+        one) for m contacts: its force arrays are zeros, made on first use."""
+        record = cls.from_packed(status, sigma, sigma_lower, norm, magnitude, method, ray, m,
+                                 feasible, _NO_SHOT if ray is None else ray[2])
         record._forces = None
         return record
 
