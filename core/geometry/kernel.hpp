@@ -9,7 +9,7 @@
 // program in four passes: directions flow down the tree (an affine node maps u to M^T u), support
 // values flow up (a hull keeps its best child, a sum adds), the leaves that produced the point
 // are flagged in the witness vector, and the support point is built up from the flagged nodes
-// only. Three program shapes take loops of their own instead of the passes (their plan): the soft
+// only. Some program shapes take loops of their own instead of the passes (their plan): the soft
 // fingers' wrench sets (ELLIPSOID_HULL), the point contacts' (ELLIPSE_HULL), either's affine
 // image (PROJECTED_ELLIPSOID_HULL, PROJECTED_ELLIPSE_HULL) and sums of posed 3-D bodies, growth
 // distance's Delta (POSED_SUM).
