@@ -14,6 +14,9 @@ from .wrench_space import (MAGNITUDES, NORMS, WrenchSpace, contact_matrices, con
                            grasp_values)
 
 
+# min_force's default tolerances: a call that keeps them skips their check
+EPS, MAX_ITER = 1e-9, 10000
+
 # a given length may differ from the contacts' own by at most this factor: far outside it, the
 # torques over it overflow or vanish against the forces, and the tolerances mean nothing
 LENGTH_RANGE = 1e6
@@ -112,8 +115,8 @@ class Grasp:
             space.shoot = shoot_and_read_forces
         return space
 
-    def min_force(self, w_ext, norm="L1", magnitude="normal", method="zc-ie", eps=1e-9,
-                  max_iter=10000):
+    def min_force(self, w_ext, norm="L1", magnitude="normal", method="zc-ie", eps=EPS,
+                  max_iter=MAX_ITER):
         """Contact forces in the friction cones that resist w_ext with the least overall magnitude.
 
         w_ext: the external wrench (force, torque about the frame's origin), (6,); the contacts
@@ -134,7 +137,8 @@ class Grasp:
         if call is None:
             call = self._call(norm, magnitude, method)
         space, code, shoot, args, A, size, extra, t_scale, ray_dims = call
-        eps, max_iter = check_tolerances(eps, max_iter)
+        if eps is not EPS or max_iter is not MAX_ITER:   # the defaults need no check
+            eps, max_iter = check_tolerances(eps, max_iter)
         start = start_table(A, ray_dims)
         packed = np.empty(size)
         # the common call, a float64 (6,) array, goes straight to the compiled code, which
@@ -172,8 +176,8 @@ class Grasp:
                                     1.0 / (t_scale * head[2]), norm, magnitude, method, ray,
                                     len(self.contacts))
 
-    def min_force_batch(self, wrenches, norm="L1", magnitude="normal", method="zc-ie", eps=1e-9,
-                        max_iter=10000, forces=False):
+    def min_force_batch(self, wrenches, norm="L1", magnitude="normal", method="zc-ie", eps=EPS,
+                        max_iter=MAX_ITER, forces=False):
         """min_force for each row of `wrenches` (k, 6): a MinForceBatch of sigma, sigma_lower,
         status, feasible and iterations per wrench (and the (k, m, 4) local forces if `forces`),
         with summary statistics. The rows are one compiled parallel loop (gf.batch.min_force);
