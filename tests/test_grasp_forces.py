@@ -177,6 +177,9 @@ def test_random_grasps_against_socp(seed):
 def check_infeasible(grasp, w, res):
     assert res.status == "infeasible" and res.sigma == math.inf and res.sigma_lower == math.inf
     assert not res.forces.any() and not res.resultant.any()
+    m = len(grasp.contacts)
+    assert (res.forces.shape, res.world_forces.shape, res.wrenches.shape, res.resultant.shape) \
+        == ((m, 4), (m, 3), (m, 6), (6,))
     # the certificate: a direction n with n.r > 0 in which W does not extend (to rounding of
     # W's size: 1e-11 is ~100 ulps of sums of up to 8 support values)
     n = wrench_normal(res)
@@ -314,6 +317,9 @@ def test_zero_wrench(norm, magnitude, method):
     assert res.status == "optimal" and res.feasible
     assert res.sigma == 0.0 and res.sigma_lower == 0.0
     assert not res.forces.any() and not res.resultant.any() and not res.wrenches.any()
+    m = len(grasp.contacts)
+    assert (res.forces.shape, res.world_forces.shape, res.wrenches.shape, res.resultant.shape) \
+        == ((m, 4), (m, 3), (m, 6), (6,))
 
 
 SINGLE = [  # (mu, mu_spin, local force f inside the cone)
