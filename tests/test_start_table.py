@@ -1,6 +1,7 @@
 """The start table of repeated shots (graspforce.geometry._start_table): its facet is the exit of
 the ray from the inner polytope CH(P_0) (LP truth), shots started from it keep the contract, and it
-is ignored wherever it would not be sound (changed parameters, origin outside, flat sets)."""
+is ignored wherever it would not be sound (changed parameters, flat sets); a set without the origin
+keeps the facets that rays crossing CH(P_0) leave through."""
 import numpy as np
 import pytest
 from scipy.spatial import ConvexHull
@@ -177,6 +178,32 @@ def test_min_force_with_table_agrees_with_the_socp(norm):
     assert grasp._space(norm, "normal").target("zc-ie").set._start_table.size > 0
 
 
+def test_standing_feet_get_a_table_and_keep_their_answers():
+    # a humanoid's eight foot corners under its weight (not force-closure: W's inner polytope
+    # does not hold the origin): the table keeps the facets its rays leave through, and the
+    # answers equal those of shots started cold, within eps, and the SOCP's
+    from benchmarks.families import FAMILIES
+    from grasp_cases import plain
+    grasp, loads = FAMILIES["feet"](np.random.default_rng(4), 16)
+    assert not grasp.is_force_closure()
+    cold = gf.Grasp(grasp.contacts)
+    saved = []
+    for w in loads:
+        res = grasp.min_force(w)
+        cold.reset_start_tables()
+        ref = cold.min_force(w)
+        saved.append(ref.support_calls - res.support_calls)
+        status, truth, _, _ = T.min_force_socp(plain(grasp), w, "L1", "normal")
+        assert res.status == ref.status == status == "optimal"
+        assert abs(res.sigma - ref.sigma) <= 2e-9 * ref.sigma
+        assert abs(res.sigma - truth) <= 5e-8 * truth
+        assert np.allclose(res.resultant, -w, atol=1e-9 * np.abs(w).max())
+    assert grasp._space("L1", "normal").target("zc-ie").set._start_table.size > 0
+    # the loads whose rays cross CH(P_0) skip ZC's search for a first facet; the others start
+    # cold, as before
+    assert sum(s > 0 for s in saved) >= 5
+
+
 def test_table_ignored_once_the_parameters_change(check_shot):
     rng = np.random.default_rng(5)
     n = 4
@@ -198,11 +225,40 @@ def test_table_ignored_once_the_parameters_change(check_shot):
     check_shot(gf.Polytope(0.5 * V), T.poly(0.5 * V), r, res, hit, t, "zc-ie")
 
 
+@pytest.mark.parametrize("n", [3, 6])
+def test_origin_outside_keeps_the_facets_rays_leave_through(n, check_shot):
+    # the origin outside A (a grasp that is not force-closure): the table keeps the facets of
+    # CH(P_0) whose hyperplane y^T x = 1 supports it with the origin on its inner side; a ray that
+    # crosses CH(P_0) starts at its exit (LP truth), any other cold, and every shot keeps the
+    # contract
+    rng = np.random.default_rng(60 + n)
+    V = random_polytope(rng, n, shift=np.full(n, 4.0))
+    A, d = gf.Polytope(V), T.poly(V)
+    A._start_table = table = ST.build_start_table(A)
+    assert table.size > 0
+    points, _ = _table_parts(table)
+    F, npar = int(table[0]), int(table[3])
+    normals = table[ST.HEADER + npar:ST.HEADER + npar + F * n].reshape(n, F).T
+    assert (points @ normals.T).max() <= 1.0 + ST.CONVEX_TOL
+    warm = cold = 0
+    for i in range(40):
+        # toward a point of CH(P_0) (a ray that crosses it), or anywhere
+        r = rng.dirichlet(np.ones(len(points))) @ points if i % 2 else rng.standard_normal(n)
+        t, P, lam, Wt = _start(A, r)
+        crosses, t_exit, _ = T.ray_shoot_lp(points, r)
+        if t > 0.0:
+            warm += 1
+            assert crosses and abs(t - t_exit) <= 1e-9 * t_exit
+            assert lam.min() >= 0.0 and np.allclose(lam @ P, t * r, atol=1e-12 * t * np.abs(r).max())
+        else:
+            cold += 1
+        res = gf.ray_shoot(A, r)
+        hit, t_true, _ = T.ray_shoot_lp(V, r)
+        check_shot(A, d, r, res, hit, t_true, "zc-ie")
+    assert warm >= 15 and cold >= 15
+
+
 def test_no_table_where_it_would_not_be_sound():
-    rng = np.random.default_rng(9)
-    # origin outside
-    V = random_polytope(rng, 5, shift=np.full(5, 4.0))
-    assert ST.build_start_table(gf.Polytope(V)) is ST.NO_TABLE
     # a flat set: a disk in R^3
     disk = gf.Ellipsoid(np.zeros(3), np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]]))
     assert ST.build_start_table(disk) is ST.NO_TABLE

@@ -11,7 +11,8 @@
 // strictly inside it, its facets y_f^T x = 1 cover every direction, and the ray R(r) leaves
 // CH(P_0) through the facet of largest y_f^T r at t_0 r with 1 / t_0 = y_f^T r = sum_j gam_j,
 // r = sum_j gam_j a_j over the facet's vertices a_j. That facet is IE's start: a facet of points
-// of A that the ray crosses.
+// of A that the ray crosses. With the origin outside, the table holds the facets that rays
+// crossing CH(P_0) leave through, and the same lookup finds the exit of such a ray.
 //
 // Nothing of the table is trusted beyond that: t_0 r is a convex combination of support points
 // of A, so t_0 <= t* whichever facet the lookup picked; IE's steps and stopping rule are

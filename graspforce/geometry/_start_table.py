@@ -8,7 +8,11 @@ the support points P_0 of A in the 2n directions +-q_j (q_j a fixed orthonormal 
 position) span an inner polytope CH(P_0) in A. When the origin is strictly inside it, its facets
 y_f^T x = 1 cover every direction, and the ray R(r) leaves CH(P_0) through the facet of largest
 y_f^T r at t_0 r with 1 / t_0 = y_f^T r = sum_j gam_j, r = sum_j gam_j a_j over the facet's
-vertices a_j. That facet is IE's start: a facet of points of A that the ray crosses.
+vertices a_j. That facet is IE's start: a facet of points of A that the ray crosses. When the
+origin is outside every CH(P_0) tried (a grasp that is not force-closure, such as feet on the
+ground), the table keeps the facets whose hyperplane y_f^T x = 1 supports CH(P_0) with the origin
+on its inner side: a ray that crosses CH(P_0) leaves it through one of them, the one of largest
+y_f^T r, and a ray that does not starts cold.
 
 Nothing of the table is trusted beyond that: t_0 r is the convex combination (gam / sum gam) of
 support points of A, so t_0 <= t* whichever facet the lookup picked; IE's steps and stopping rule
@@ -109,12 +113,17 @@ def build_start_table(A, ray_dims=None):
         table = _table(A, _directions(n, bases, k), k)
         if table is not NO_TABLE:
             return table
-    return NO_TABLE
+    # the origin outside every CH(P_0) (a grasp that is not force-closure: feet on the ground):
+    # the first basis's facets that the rays crossing CH(P_0) leave through
+    return _table(A, _directions(n, 1, k), k, around_origin=False)
 
 
-def _table(A, directions, k):
+def _table(A, directions, k, around_origin=True):
     """The table of P_0 = the support points of A in `directions`, or NO_TABLE; with k < n,
-    only the facets that rays in the last k coordinates leave through."""
+    only the facets that rays in the last k coordinates leave through. around_origin: NO_TABLE
+    unless the origin is strictly inside CH(P_0); else only the facets whose hyperplane
+    y_f^T x = 1 supports CH(P_0) (the origin on its inner side), through one of which every ray
+    that crosses CH(P_0) leaves it (the lookup's largest y_f^T r); other rays start cold."""
     rows = [A._support(u) for u in directions]
     points, keep = np.unique(np.array([row[1] for row in rows]), axis=0, return_index=True)
     witnesses = np.array([rows[i][2] for i in keep])
@@ -133,10 +142,13 @@ def _table(A, directions, k):
     # gam = B_f r: B_f inverts the matrix whose columns are the facet's vertices
     inverse = np.linalg.inv(np.transpose(points[faces], (0, 2, 1)))
     normals = inverse.sum(axis=1)         # y_f = B_f^T 1
-    if (points @ normals.T).max() > 1.0 + CONVEX_TOL:
+    supporting = (points @ normals.T).max(axis=0) <= 1.0 + CONVEX_TOL
+    if not supporting.all():
         # some y_f^T x = 1 does not support CH(P_0) with the origin inside: the origin is
         # outside CH(P_0)
-        return NO_TABLE
+        if around_origin or not supporting.any():
+            return NO_TABLE
+        faces, inverse, normals = faces[supporting], inverse[supporting], normals[supporting]
     n = A.dim
     if k < n:
         # of CH(P_0)'s facets in R^n (~530 for W_Linf's lift on 4 contacts) the rays of the
