@@ -43,8 +43,9 @@ constexpr double STEP_TOL = 1e-7;
 // the ellipsoid path tries its certificate once ||du|| <= EARLY_STEP ||u||: the next step's
 // error, ~||du||^2, is then far below eps, and a certificate that fails asks for STEP_TOL
 constexpr double EARLY_STEP = 1e-5;
-// a step longer than DIVERGED times the last (same pieces) ends the ellipsoid path's try
-constexpr double DIVERGED = 0.5;
+// a step longer than DIVERGED times the last (same pieces) ends the ellipsoid path's try (0.5
+// ended tries from gap ~5e-3 on soft fingers that went on to converge: 0.9 takes them)
+constexpr double DIVERGED = 0.9;
 // ||T^T u|| <= FLAT_RHO ||T|| ||u|| on the facet's normal: the leaf is flat,
 constexpr double FLAT_RHO = 1e-3;
 // or its facet vertices' mean local point is this far inside (squared)
@@ -613,8 +614,8 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             last_du = INF;
             continue;
         }
-        // Newton's steps shrink quadratically near the answer; one that does not halve the last
-        // is a piece set (or a singular system's basic steps) that does not converge
+        // Newton's steps shrink quadratically near the answer; one that does not shrink the last
+        // by a tenth is a piece set (or a singular system's basic steps) that does not converge
         if (du > DIVERGED * last_du) return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
         last_du = du;
         converged = du <= (precise ? STEP_TOL : EARLY_STEP) * un;

@@ -27,12 +27,12 @@ constexpr Int REFACTOR = 64;   // IE steps between fresh factorizations of the f
 // ~5 us, more than the IE steps it saved when tried early), once the gap is at most
 // NEWTON_GAP_DEAR and the last NEWTON_STABLE n IE steps each found their support point on a piece
 // of their facet (the exit face's pieces are found); after a failed try, the next waits for the
-// gap to shrink by NEWTON_RETRY
+// gap to shrink by NEWTON_RETRY (1e-2 left ~15 IE steps between the tries)
 constexpr Int NEWTON_CHEAP = 3;
 constexpr double NEWTON_GAP = 0.1;
 constexpr double NEWTON_GAP_DEAR = 1e-2;
 constexpr Int NEWTON_STABLE = 2;
-constexpr double NEWTON_RETRY = 1e-2;
+constexpr double NEWTON_RETRY = 0.1;
 // the secant query (ZC-IE from a facet whose points' support directions are known: `zc_from`'s
 // `directions`): a secant point must keep at least SECANT_HOLD of the weight of t r in the next
 // facet, and its query's gap must be at most SECANT_GAIN times the last query's, else
