@@ -275,22 +275,19 @@ inline SmoothLeaf smooth_leaf(IVec ints, Vec w) {
     const Int c0 = B.CHILDREN + ints[B.CSTART];
     for (Int c = 0; c < ints[B.CCOUNT]; ++c) {
         const Int node = ints[c0 + c];
+        Int leaf = node, lead = 0, t0 = -1;
         if (ints[B.KIND + node] == ORIGIN_EMBED) {
-            const Int leaf = ints[B.CHILDREN + ints[B.CSTART + node]];
-            const Int lead = ints[B.DIM + node] - ints[B.DIM + leaf];
-            const Int t0 = ints[B.PSTART + node] + 3;
+            leaf = ints[B.CHILDREN + ints[B.CSTART + node]];
+            lead = ints[B.DIM + node] - ints[B.DIM + leaf];
+            t0 = ints[B.PSTART + node] + 3;
             const double origin = w[ints[B.WSTART + node]];
             if (origin != 0.0)
                 return origin == 1.0 ? SmoothLeaf{node, -1, lead, t0} : SmoothLeaf{-1, 0, 0, -1};
-            const double flag = w[ints[B.WSTART + leaf]];
-            if (flag == 0.0) continue;
-            if (flag != 1.0 || ints[B.KIND + leaf] != ELLIPSOID) return {-1, 0, 0, -1};
-            return {leaf, ints[B.PSTART + leaf], lead, t0};
         }
-        const double flag = w[ints[B.WSTART + node]];
+        const double flag = w[ints[B.WSTART + leaf]];
         if (flag == 0.0) continue;
-        if (flag != 1.0 || ints[B.KIND + node] != ELLIPSOID) return {-1, 0, 0, -1};
-        return {node, ints[B.PSTART + node], 0, -1};
+        if (flag != 1.0 || ints[B.KIND + leaf] != ELLIPSOID) return {-1, 0, 0, -1};
+        return {leaf, ints[B.PSTART + leaf], lead, t0};
     }
     return {-1, 0, 0, -1};
 }
