@@ -98,7 +98,7 @@ def test_rays_through_a_split_facet_start_warm():
     # each square face split by Qhull into two triangles on one plane; the lookup's best
     # y_f^T r ties between them, and it must take the one holding the ray
     A = gf.Box([1.0, 2.0, 0.5])
-    A._start_table = ST._table(A, ST._directions(3, 3, 3), 3)
+    A._start_table, _ = ST._table(A, ST._directions(3, 3, 3), 3)
     points, _ = _table_parts(A._start_table)
     normals = np.round(ConvexHull(points, qhull_options="QJ").equations[:, :3], 6)
     assert len(np.unique(normals, axis=0)) < len(normals)        # some facets are split

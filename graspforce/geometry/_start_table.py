@@ -109,21 +109,25 @@ def build_start_table(A, ray_dims=None):
     k = n if ray_dims is None else ray_dims
     if not 2 <= k <= MAX_DIM or n > (MAX_DIM if k == n else MAX_HULL_DIM):
         return NO_TABLE
+    partial = NO_TABLE
     for bases in range(1, MAX_BASES + 1):
-        table = _table(A, _directions(n, bases, k), k)
-        if table is not NO_TABLE:
+        table, around_origin = _table(A, _directions(n, bases, k), k)
+        if around_origin:
             return table
+        if bases == 1:
+            partial = table
     # the origin outside every CH(P_0) (a grasp that is not force-closure: feet on the ground):
     # the first basis's facets that the rays crossing CH(P_0) leave through
-    return _table(A, _directions(n, 1, k), k, around_origin=False)
+    return partial
 
 
-def _table(A, directions, k, around_origin=True):
-    """The table of P_0 = the support points of A in `directions`, or NO_TABLE; with k < n,
-    only the facets that rays in the last k coordinates leave through. around_origin: NO_TABLE
-    unless the origin is strictly inside CH(P_0); else only the facets whose hyperplane
-    y_f^T x = 1 supports CH(P_0) (the origin on its inner side), through one of which every ray
-    that crosses CH(P_0) leaves it (the lookup's largest y_f^T r); other rays start cold."""
+def _table(A, directions, k):
+    """(table, around_origin) of P_0 = the support points of A in `directions`; with k < n, the
+    table keeps only the facets that rays in the last k coordinates leave through. around_origin:
+    the origin is strictly inside CH(P_0). If not, the table keeps only the facets whose
+    hyperplane y_f^T x = 1 supports CH(P_0) (the origin on its inner side), through one of which
+    every ray that crosses CH(P_0) leaves it (the lookup's largest y_f^T r); other rays start
+    cold. NO_TABLE (and False) for a flat P_0 or no usable facet."""
     rows = [A._support(u) for u in directions]
     points, keep = np.unique(np.array([row[1] for row in rows]), axis=0, return_index=True)
     witnesses = np.array([rows[i][2] for i in keep])
@@ -132,22 +136,23 @@ def _table(A, directions, k, around_origin=True):
         # may leave flat ones)
         faces = ConvexHull(points, qhull_options="QJ").simplices
     except QhullError:
-        return NO_TABLE            # P_0 spans less than R^n: a flat set
+        return NO_TABLE, False     # P_0 spans less than R^n: a flat set
     vertices = np.transpose(points[faces], (0, 2, 1))
     # facets whose vertices are nearly dependent (the origin near their hyperplane, or two
     # support points nearly equal) would give inaccurate weights: left out, their rays start cold
     faces = faces[np.linalg.cond(vertices) < MAX_COND]
     if len(faces) == 0:
-        return NO_TABLE
+        return NO_TABLE, False
     # gam = B_f r: B_f inverts the matrix whose columns are the facet's vertices
     inverse = np.linalg.inv(np.transpose(points[faces], (0, 2, 1)))
     normals = inverse.sum(axis=1)         # y_f = B_f^T 1
     supporting = (points @ normals.T).max(axis=0) <= 1.0 + CONVEX_TOL
-    if not supporting.all():
-        # some y_f^T x = 1 does not support CH(P_0) with the origin inside: the origin is
-        # outside CH(P_0)
-        if around_origin or not supporting.any():
-            return NO_TABLE
+    # some y_f^T x = 1 does not support CH(P_0) with the origin inside: the origin is outside
+    # CH(P_0), and those facets face it
+    around_origin = bool(supporting.all())
+    if not around_origin:
+        if not supporting.any():
+            return NO_TABLE, False
         faces, inverse, normals = faces[supporting], inverse[supporting], normals[supporting]
     n = A.dim
     if k < n:
@@ -163,5 +168,6 @@ def _table(A, directions, k, around_origin=True):
     npar = params_size(ints)
     header = [len(faces), A.dim, A.witness_size, npar, len(points)]
     # normals by coordinate, (n, F): see table_start
-    return np.concatenate((header, floats[:npar], normals.T.ravel(), inverse.ravel(),
-                           faces.ravel(), points.ravel(), witnesses.ravel())).astype(float)
+    table = np.concatenate((header, floats[:npar], normals.T.ravel(), inverse.ravel(),
+                            faces.ravel(), points.ravel(), witnesses.ravel())).astype(float)
+    return table, around_origin
