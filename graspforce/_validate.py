@@ -6,7 +6,8 @@ import numpy as np
 
 def finite_array(value, name, ndim=None, shape=None, minimum=None):
     try:
-        a = np.array(value, dtype=float)
+        # C order: a leaf's parameters are written from its arrays as they lie in memory
+        a = np.array(value, dtype=float, order="C")
     except (TypeError, ValueError):
         raise TypeError(f"{name}: expected an array of numbers") from None
     if shape is not None and a.shape != tuple(shape):

@@ -420,6 +420,52 @@ def test_dimension_mismatch_raises():
         gf.affine(np.ones((2, 4)), gf.Ball(np.zeros(3), 1.0))
 
 
+def test_leaf_parameters_follow_the_kernel_layout():
+    # core/geometry/kernel.hpp's blocks, written out by hand: [n, k, c, S row-major],
+    # [m, n, V row-major], [n, half], [r_bottom, r_top, h], [n, mu]
+    c, S = np.array([0.1, -0.2, 0.3]), np.arange(6.0).reshape(3, 2)
+    V = np.arange(12.0).reshape(4, 3)
+    cases = [(gf.Ellipsoid(c, S), [3, 2, 0.1, -0.2, 0.3, 0, 1, 2, 3, 4, 5]),
+             (gf.Polytope(V), [4, 3] + list(range(12))),
+             (gf.Box([1.0, 2.0, 3.0]), [3, 1, 2, 3]),
+             (gf.TruncatedCone(0.5, 0.25, 2.0), [0.5, 0.25, 2.0]),
+             (gf.ConeCap(0.7, 4), [4, 0.7])]
+    for leaf, expected in cases:
+        params = leaf._params()
+        assert params.dtype == np.float64 and params.tolist() == expected, type(leaf)
+
+
+def test_fortran_ordered_input_is_read_by_rows():
+    # a transposed view is Fortran-ordered: the set must be S, not S^T
+    rng = np.random.default_rng(5)
+    S = rng.normal(size=(3, 3))
+    F = np.asfortranarray(S)
+    A, B = gf.Ellipsoid(np.zeros(3), F), gf.Ellipsoid(np.zeros(3), S)
+    V = rng.normal(size=(3, 5))
+    for u in unit_dirs(rng, 3, 5):
+        assert A.support(u)[0] == B.support(u)[0] == pytest.approx(np.linalg.norm(S.T @ u))
+        assert gf.Polytope(V.T).support(u)[0] == pytest.approx(max(V.T @ u), rel=1e-15)
+    pose_a, pose_b = (np.eye(3), np.zeros(3)), (np.eye(3), np.array([1.0, 0.5, 0.2]))
+    ball = gf.Ball(np.zeros(3), 0.1)
+    assert (gf.growth_distance(A, pose_a, ball, pose_b).sigma
+            == gf.growth_distance(B, pose_a, ball, pose_b).sigma)
+
+
+def test_delta_arrays_refuse_parts_that_are_not_the_block():
+    from graspforce._core import delta_arrays, leaf_params
+    ints, floats = np.zeros(4, dtype=np.int64), np.zeros(10)
+    good = (1.0, np.ones(3))
+    assert delta_arrays(ints, floats, 0, 4, good, 4, 4, good)[1].tolist() == [1, 1, 1, 1] * 2 + [0, 0]
+    for bad in ((1.0, np.ones(2)), (1.0, np.ones(4)), (1.0, np.ones(6)[::2]),
+                (1.0, np.ones(3, dtype=np.float32)), ("1", np.ones(3))):
+        with pytest.raises(ValueError):
+            delta_arrays(ints, floats, 0, 4, bad, 4, 4, good)
+    with pytest.raises(ValueError):
+        delta_arrays(ints, floats, 0, 4, good, 8, 4, good)          # past the floats
+    with pytest.raises(TypeError):
+        leaf_params((1.0, [1.0, 2.0]))
+
+
 # ----------------------------------------------------------------------------------------------
 # leaves and witnesses
 # ----------------------------------------------------------------------------------------------

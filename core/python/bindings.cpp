@@ -264,20 +264,42 @@ NB_MODULE(_core, m) {
 
     m.def(
         "delta_arrays",
-        [](InI1 ints, In1 floats, gf::Int sa, In1 pa, gf::Int sb, In1 pb) {
-            if (sa < 0 || sb < 0 || sa + pa.rows > floats.rows || sb + pb.rows > floats.rows)
+        [](InI1 ints, In1 floats, gf::Int sa, gf::Int la, nb::tuple pa, gf::Int sb, gf::Int lb,
+           nb::tuple pb) {
+            if (sa < 0 || sb < 0 || la < 0 || lb < 0 || sa + la > floats.rows ||
+                sb + lb > floats.rows)
                 throw nb::value_error("delta_arrays: a parameter block outside the floats");
             nb::object new_ints = numpy_copy(ints.data, ints.rows);
             nb::object new_floats = numpy_copy(floats.data, floats.rows);
             double* f = float_data(new_floats.ptr());
-            std::memcpy(f + sa, pa.data, pa.rows * sizeof(double));
-            std::memcpy(f + sb, pb.data, pb.rows * sizeof(double));
+            if (write_parts(pa, f + sa, la) != la || write_parts(pb, f + sb, lb) != lb)
+                throw nb::value_error(
+                    "delta_arrays: a leaf's parameter parts are not its template's block (numbers "
+                    "and C-contiguous float64 arrays filling exactly la and lb entries)");
             return nb::make_tuple(new_ints, new_floats);
         },
-        "ints"_a.noconvert(), "floats"_a.noconvert(), "sa"_a, "pa"_a.noconvert(), "sb"_a,
-        "pb"_a.noconvert(),
-        "(ints, floats): copies of a Delta template's program with the two leaves' parameters "
-        "written at sa and sb (graspforce.growth).");
+        "ints"_a.noconvert(), "floats"_a.noconvert(), "sa"_a, "la"_a, "pa"_a, "sb"_a, "lb"_a,
+        "pb"_a,
+        "(ints, floats): copies of a Delta template's program with the two leaves' parameter "
+        "parts (a leaf's `_param_parts`) written at sa and sb, filling la and lb entries "
+        "(graspforce.growth).");
+
+    m.def(
+        "leaf_params",
+        [](nb::tuple parts) {
+            constexpr gf::Int ANY = std::numeric_limits<gf::Int>::max();
+            const gf::Int n = write_parts(parts, nullptr, ANY);
+            if (n < 0)
+                throw nb::type_error("leaf_params: a part is neither a number nor a C-contiguous "
+                                     "float64 array");
+            npy_intp size = n;
+            PyObject* o = PyArray_SimpleNew(1, &size, NPY_FLOAT64);
+            if (o == nullptr) throw nb::python_error();
+            nb::object out = nb::steal(o);
+            write_parts(parts, float_data(o), n);
+            return out;
+        },
+        "parts"_a, "A leaf's parameter parts (its `_param_parts`) as one float64 array.");
 
     m.def("capacity", &gf::capacity, "n"_a, "ws"_a,
           "Entries the arrays of a shot in R^n with witnesses of ws entries take when packed.");

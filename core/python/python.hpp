@@ -152,6 +152,35 @@ inline bool read_finite3(PyObject* o, double* v) {
     return 0.0 * v[0] + 0.0 * v[1] + 0.0 * v[2] == 0.0;
 }
 
+// Writes a leaf's parameter parts (a tuple of Python ints and floats and C-contiguous float64
+// arrays of any rank) one after the other to out (nullptr: counts only); the entries they fill,
+// or -1 for a part of another kind or more than n entries.
+inline gf::Int write_parts(nb::handle parts, double* out, gf::Int n) {
+    const Py_ssize_t count = PyTuple_GET_SIZE(parts.ptr());
+    gf::Int k = 0;
+    for (Py_ssize_t i = 0; i < count; ++i) {
+        PyObject* o = PyTuple_GET_ITEM(parts.ptr(), i);
+        if (PyFloat_CheckExact(o) || PyLong_CheckExact(o)) {
+            const double v = PyFloat_CheckExact(o) ? PyFloat_AS_DOUBLE(o) : PyLong_AsDouble(o);
+            if (v == -1.0 && PyErr_Occurred()) throw nb::python_error();
+            if (k >= n) return -1;
+            if (out != nullptr) out[k] = v;
+            k += 1;
+            continue;
+        }
+        if (!PyArray_Check(o)) return -1;
+        auto* a = reinterpret_cast<PyArrayObject*>(o);
+        if (PyArray_TYPE(a) != NPY_FLOAT64 || !PyArray_IS_C_CONTIGUOUS(a) ||
+            !PyArray_ISALIGNED(a) || !PyArray_ISNOTSWAPPED(a))
+            return -1;
+        const gf::Int size = static_cast<gf::Int>(PyArray_SIZE(a));
+        if (size > n - k) return -1;
+        if (out != nullptr) std::memcpy(out + k, PyArray_DATA(a), size * sizeof(double));
+        k += size;
+    }
+    return k;
+}
+
 // the entries of a float64 array made by numpy_copy or PyArray_SimpleNew
 inline double* float_data(PyObject* a) {
     return static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a)));

@@ -10,6 +10,7 @@ import numpy as np
 from . import _kernel as K
 from ._start_table import UNSEEN
 from .._validate import finite_array, finite_scalar
+from .._core import leaf_params
 
 
 class ConvexSet:
@@ -112,8 +113,17 @@ class Leaf(ConvexSet):
 
     kind: int
 
-    def _params(self):
+    def _param_parts(self):
+        """The kernel's parameters of this leaf (core/geometry/kernel.hpp), as numbers and
+        float64 arrays to be written one after the other."""
         raise NotImplementedError
+
+    def _layout(self):
+        """What fixes the leaf's program besides its kind: the sizes of its parameters."""
+        raise NotImplementedError
+
+    def _params(self):
+        return leaf_params(self._param_parts())
 
     def _witness_len(self):
         raise NotImplementedError
@@ -135,8 +145,11 @@ class Polytope(Leaf):
         self.vertices = v
         self.dim = v.shape[1]
 
-    def _params(self):
-        return np.concatenate(([self.vertices.shape[0], self.dim], self.vertices.ravel()))
+    def _param_parts(self):
+        return (self.vertices.shape[0], self.dim, self.vertices)
+
+    def _layout(self):
+        return self.vertices.shape
 
     def _witness_len(self):
         return 1
@@ -160,14 +173,12 @@ class Ellipsoid(Leaf):
         self.shape = s
         self.dim = c.shape[0]
 
-    def _params(self):
+    def _param_parts(self):
         n, k = self.shape.shape
-        # filled in place: a third of np.concatenate's time (a pair of shapes made per query)
-        params = np.empty(2 + n + n * k)
-        params[0], params[1] = n, k
-        params[2:2 + n] = self.center
-        params[2 + n:] = self.shape.ravel()
-        return params
+        return (n, k, self.center, self.shape)
+
+    def _layout(self):
+        return self.shape.shape
 
     def _witness_len(self):
         return self.shape.shape[1]
@@ -195,8 +206,11 @@ class _AxisBox(Leaf):
         self.half = half
         self.dim = half.shape[0]
 
-    def _params(self):
-        return np.concatenate(([self.dim], self.half))
+    def _param_parts(self):
+        return (self.dim, self.half)
+
+    def _layout(self):
+        return self.dim
 
     def _witness_len(self):
         return self.dim
@@ -217,8 +231,11 @@ class TruncatedCone(Leaf):
         self.top_radius = finite_scalar(top_radius, "top_radius", minimum=0.0)
         self.height = finite_scalar(height, "height", minimum=0.0)
 
-    def _params(self):
-        return np.array([self.bottom_radius, self.top_radius, self.height])
+    def _param_parts(self):
+        return (self.bottom_radius, self.top_radius, self.height)
+
+    def _layout(self):
+        return ()
 
     def _witness_len(self):
         return 3
@@ -241,8 +258,11 @@ class ConeCap(Leaf):
             raise ValueError(f"dim: must be a positive integer, got {dim!r}")
         self.dim = int(dim)
 
-    def _params(self):
-        return np.array([self.dim, self.mu])
+    def _param_parts(self):
+        return (self.dim, self.mu)
+
+    def _layout(self):
+        return self.dim
 
     def _witness_len(self):
         return self.dim
