@@ -256,15 +256,15 @@ inline bool small_solve(const double* K, double* lu, const double* b, double* x,
     return true;
 }
 
-// small_solve for the sizes of W_L1 in R^6 (n + m + 1 = 8..13 unknowns for m = 1..6 pieces)
+// small_solve for the sizes of W_L1 in R^6 (n + m = 7..12 unknowns for m = 1..6 pieces)
 inline bool small_solve_r6(const double* K, double* lu, const double* b, double* x, Int N) {
     switch (N) {
+        case 7: return small_solve<7>(K, lu, b, x, N);
         case 8: return small_solve<8>(K, lu, b, x, N);
         case 9: return small_solve<9>(K, lu, b, x, N);
         case 10: return small_solve<10>(K, lu, b, x, N);
         case 11: return small_solve<11>(K, lu, b, x, N);
         case 12: return small_solve<12>(K, lu, b, x, N);
-        case 13: return small_solve<13>(K, lu, b, x, N);
         default: return small_solve(K, lu, b, x, N);
     }
 }
@@ -541,15 +541,21 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             converged = false;
             continue;
         }
-        // the Newton step: [[sum lam_p H_p, Z^T, -r], [Z, 0, 0], [0, 1^T, 0]]
-        const Int N = n + m + 1;
+        // the Newton step: [[sum lam_p H_p, Z^T, -r], [Z, 0, 0], [0, 1^T, 0]] with the last
+        // row solved for the last weight's step, dlam_last = e - sum of the others (e = 1 -
+        // sum lam): unknowns du, dlam_0 .. dlam_{m-2}, dt
+        const Int N = n + m;
+        double total = 0.0;
+        for (Int p = 0; p < m; ++p) total += lm[p];
+        const double e_sum = 1.0 - total;
+        const double* zl = Z + (m - 1) * FAST_N;
         for (Int a = 0; a < n; ++a) {
             double F = -t * r[a];
             for (Int p = 0; p < m; ++p) F += lm[p] * Z[p * FAST_N + a];
-            rhs[a] = -F;
+            rhs[a] = -F - zl[a] * e_sum;
             for (Int a2 = 0; a2 < n; ++a2) K[a * FAST_K + a2] = 0.0;
-            for (Int p = 0; p < m; ++p) K[a * FAST_K + n + p] = Z[p * FAST_N + a];
-            K[a * FAST_K + n + m] = -r[a];
+            for (Int p = 0; p + 1 < m; ++p) K[a * FAST_K + n + p] = Z[p * FAST_N + a] - zl[a];
+            K[a * FAST_K + n + m - 1] = -r[a];
         }
         for (Int p = 0; p < m; ++p) {
             // the curvature, in the leaf's coordinates (the last n_c of u); none at an origin
@@ -575,19 +581,11 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
         }
         for (Int a = 0; a < n; ++a)
             for (Int a2 = 0; a2 < a; ++a2) K[a * FAST_K + a2] = K[a2 * FAST_K + a];
-        double total = 0.0;
-        for (Int a = 0; a < n; ++a) K[(n + m) * FAST_K + a] = 0.0;
-        for (Int p = 0; p < m; ++p) {
-            K[(n + m) * FAST_K + n + p] = 1.0;
-            total += lm[p];
-        }
-        K[(n + m) * FAST_K + n + m] = 0.0;
-        rhs[n + m] = 1.0 - total;
         // singular where the face's normal cone is wider than a ray (one soft finger's
         // 3-D ellipsoid in R^6): a basic solution, as the general path's
         if (!(FN == 6 ? small_solve_r6(K, lu, rhs, dx, N) : small_solve(K, lu, rhs, dx, N)) &&
             solve_basic(Mat{K, N, N, FAST_K}, N, Mat{lu, N, N, FAST_K}, IVec{prow, N},
-                        IVec{pcol, N}, Vec{rhs, N}, Vec{dx, N}) <= n)
+                        IVec{pcol, N}, Vec{rhs, N}, Vec{dx, N}) < n)
             return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
         steps += 1;
         double du = 0.0, un = 0.0;
@@ -597,11 +595,14 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             un = std::max(un, std::abs(u[a]));
         }
         Int worst = -1;
+        double rest = e_sum;
         for (Int p = 0; p < m; ++p) {
-            lm[p] += dx[n + p];
+            const double dl = p + 1 < m ? dx[n + p] : rest;
+            rest -= dl;
+            lm[p] += dl;
             if (lm[p] <= 0.0 && (worst < 0 || lm[p] < lm[worst])) worst = p;
         }
-        t += dx[n + m];
+        t += dx[n + m - 1];
         if (worst >= 0) {
             // not a piece of the exit face: its weight would be negative
             for (Int p = worst; p < m - 1; ++p) {
