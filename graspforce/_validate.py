@@ -3,6 +3,8 @@ import math
 
 import numpy as np
 
+from ._core import finite_min
+
 
 def finite_array(value, name, ndim=None, shape=None, minimum=None):
     try:
@@ -14,24 +16,14 @@ def finite_array(value, name, ndim=None, shape=None, minimum=None):
         raise ValueError(f"{name}: expected shape {tuple(shape)}, got {a.shape}")
     if ndim is not None and a.ndim != ndim:
         raise ValueError(f"{name}: expected a {ndim}-D array, got shape {a.shape}")
-    if a.size <= SMALL:
-        # a few entries (a contact's, a primitive's) are checked as Python floats, ~10x faster
-        # than numpy's isfinite and any: a sum that is finite has no NaN or inf among its terms
-        # (one that overflows is checked again by numpy)
-        values = a.ravel().tolist()
-        total = sum(values)
-        if total - total == 0.0 or np.all(np.isfinite(a)):
-            if minimum is not None and values and min(values) < minimum:
-                raise ValueError(f"{name}: must be >= {minimum}")
-            return a
-    if not np.all(np.isfinite(a)):
+    # one compiled pass: ~0.1 us where numpy's isfinite and all take ~2.6 (a contact's, a
+    # primitive's few entries)
+    low = finite_min(a)
+    if low != low:
         raise ValueError(f"{name}: must be finite (no NaN or inf)")
-    if minimum is not None and np.any(a < minimum):
+    if minimum is not None and low < minimum:
         raise ValueError(f"{name}: must be >= {minimum}")
     return a
-
-
-SMALL = 64
 
 
 def finite_scalar(value, name, minimum=None, exclusive=False):

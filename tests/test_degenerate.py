@@ -335,6 +335,29 @@ def test_bad_rays_raise():
             gf.ray_shoot(A, np.array([1.0, 0.0, 0.0]), eps=eps)
 
 
+def test_finite_array_agrees_with_numpy():
+    # the compiled check against numpy's isfinite and min, on arrays of every size up to 200,
+    # Fortran-ordered ones and 0-d ones, a non-finite entry anywhere
+    from graspforce._validate import finite_array
+    rng = np.random.default_rng(8)
+    for i in range(400):
+        shape = [(), (int(rng.integers(0, 200)),), (int(rng.integers(1, 9)), 3)][i % 3]
+        a = rng.normal(size=shape)
+        if a.size and i % 4:
+            a.flat[rng.integers(a.size)] = (np.nan, np.inf, -np.inf)[i % 3]
+        if i % 5 == 0 and a.ndim == 2:
+            a = np.asfortranarray(a)
+        minimum = None if i % 2 else -1.5
+        finite = bool(np.isfinite(a).all())
+        low_ok = minimum is None or not a.size or (finite and a.min() >= minimum)
+        if finite and low_ok:
+            out = finite_array(a, "field", minimum=minimum)
+            assert out.flags.c_contiguous and np.array_equal(out, a)
+        else:
+            with pytest.raises(ValueError, match="field: must be"):
+                finite_array(a, "field", minimum=minimum)
+
+
 def test_bad_set_parameters_raise():
     with pytest.raises(ValueError):
         gf.Ellipsoid([np.nan, 0.0, 0.0], np.eye(3))

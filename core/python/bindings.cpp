@@ -285,6 +285,28 @@ NB_MODULE(_core, m) {
         "(graspforce.growth).");
 
     m.def(
+        "finite_min",
+        [](nb::handle a) {
+            PyObject* o = a.ptr();
+            if (!PyArray_Check(o)) throw nb::type_error("finite_min: expected a numpy array");
+            auto* arr = reinterpret_cast<PyArrayObject*>(o);
+            if (PyArray_TYPE(arr) != NPY_FLOAT64 || !PyArray_IS_C_CONTIGUOUS(arr) ||
+                !PyArray_ISALIGNED(arr) || !PyArray_ISNOTSWAPPED(arr))
+                throw nb::type_error("finite_min: expected a C-contiguous float64 array");
+            const double* d = static_cast<const double*>(PyArray_DATA(arr));
+            const npy_intp n = PyArray_SIZE(arr);
+            double low = gf::INF;
+            for (npy_intp i = 0; i < n; ++i) {
+                if (!std::isfinite(d[i])) return std::numeric_limits<double>::quiet_NaN();
+                low = std::min(low, d[i]);
+            }
+            return low;
+        },
+        "a"_a,
+        "The least entry of a C-contiguous float64 array, NaN if some entry is not finite, inf "
+        "if it has none (graspforce._validate.finite_array).");
+
+    m.def(
         "leaf_params",
         [](nb::tuple parts) {
             constexpr gf::Int ANY = std::numeric_limits<gf::Int>::max();
