@@ -113,9 +113,14 @@ class GrowthDistance:
         self._leaves_a = 1 if isinstance(A, Leaf) else len(A.leaves())
         self.warm_start = bool(warm_start) and method == "zc-ie"
         # the solver's constants in the program's tail (TAIL, core/growth/growth.hpp), which
-        # _delta_program began with Delta's own
-        floats[len(floats) - TAIL + METHOD:len(floats) - TAIL + TOUCHING_TOL + 1] = (
-            self._code, self.max_iter, self.warm_start, self.eps, touching_tol)
+        # _delta_program began with Delta's own; one entry at a time (a slice from a tuple costs
+        # numpy's conversion)
+        tail = len(floats) - TAIL
+        floats[tail + METHOD] = self._code
+        floats[tail + MAX_ITER] = self.max_iter
+        floats[tail + WARM_START] = self.warm_start
+        floats[tail + EPS] = self.eps
+        floats[tail + TOUCHING_TOL] = touching_tol
         self._size = FRAME + capacity(3, ws)
 
     def __call__(self, pose_a, pose_b):
