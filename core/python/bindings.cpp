@@ -290,8 +290,7 @@ NB_MODULE(_core, m) {
             PyObject* o = a.ptr();
             if (!PyArray_Check(o)) throw nb::type_error("finite_min: expected a numpy array");
             auto* arr = reinterpret_cast<PyArrayObject*>(o);
-            if (PyArray_TYPE(arr) != NPY_FLOAT64 || !PyArray_IS_C_CONTIGUOUS(arr) ||
-                !PyArray_ISALIGNED(arr) || !PyArray_ISNOTSWAPPED(arr))
+            if (!c_float64(arr))
                 throw nb::type_error("finite_min: expected a C-contiguous float64 array");
             const double* d = static_cast<const double*>(PyArray_DATA(arr));
             const npy_intp n = PyArray_SIZE(arr);

@@ -152,6 +152,13 @@ inline bool read_finite3(PyObject* o, double* v) {
     return 0.0 * v[0] + 0.0 * v[1] + 0.0 * v[2] == 0.0;
 }
 
+// Whether a is a float64 array in C order, aligned and in native byte order: entries the core
+// reads in place, of any rank
+inline bool c_float64(PyArrayObject* a) {
+    return PyArray_TYPE(a) == NPY_FLOAT64 && PyArray_IS_C_CONTIGUOUS(a) && PyArray_ISALIGNED(a) &&
+           PyArray_ISNOTSWAPPED(a);
+}
+
 // Writes a leaf's parameter parts (a tuple of Python ints and floats and C-contiguous float64
 // arrays of any rank) one after the other to out (nullptr: counts only); the entries they fill,
 // or -1 for a part of another kind or more than n entries.
@@ -170,9 +177,7 @@ inline gf::Int write_parts(nb::handle parts, double* out, gf::Int n) {
         }
         if (!PyArray_Check(o)) return -1;
         auto* a = reinterpret_cast<PyArrayObject*>(o);
-        if (PyArray_TYPE(a) != NPY_FLOAT64 || !PyArray_IS_C_CONTIGUOUS(a) ||
-            !PyArray_ISALIGNED(a) || !PyArray_ISNOTSWAPPED(a))
-            return -1;
+        if (!c_float64(a)) return -1;
         const gf::Int size = static_cast<gf::Int>(PyArray_SIZE(a));
         if (size > n - k) return -1;
         if (out != nullptr) std::memcpy(out + k, PyArray_DATA(a), size * sizeof(double));

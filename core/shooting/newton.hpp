@@ -209,7 +209,9 @@ inline NewtonOut failed(double t, double t_up, double h, Int steps, Int calls, A
 // The ellipsoid finish's limits: stack arrays for sets in up to R^FAST_N whose pieces' shapes have
 // up to FAST_N columns (W_Linf's lift of 8 contacts is in R^13)
 constexpr Int FAST_N = 14;
-constexpr Int FAST_K = 2 * FAST_N + 1;   // unknowns u, lam, t
+// the system's unknowns: u, every weight but the last, t; n + m <= 2n (a piece joins only while
+// m < n)
+constexpr Int FAST_K = 2 * FAST_N;
 
 // Solve K x = b (K (N, N) in FAST_K-strided rows, factored in lu) by LU with partial pivoting;
 // false when a pivot is below 1e-14 of K's largest entry (lu_factor's test).
