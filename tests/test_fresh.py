@@ -170,25 +170,33 @@ def test_delta_templates_equal_the_generic_compile(kind_a, kind_b):
     from graspforce.growth import growth as GR
     rng = np.random.default_rng(KINDS.index(kind_a) * 10 + KINDS.index(kind_b))
     GR._DELTA_TEMPLATES.clear()
+    # the default settings, then others (every entry of the tail's settings different)
+    settings = [dict(warm_start=False), dict(method="ie", eps=1e-6, max_iter=77,
+                                             touching_tol=1e-4, warm_start=True),
+                dict(method="zc-ie", eps=3e-8, max_iter=500, touching_tol=0.0, warm_start=True)]
     for i in range(4):
         A, B = random_primitive(rng, kind_a), random_primitive(rng, kind_b)
         if i == 0:
-            GR._delta_program(A, B)          # the template, from another pair
+            gf.GrowthDistance(A, B)          # the template, from another pair
             continue
-        delta, ints, floats = GR._delta_program(A, B)
+        solver = gf.GrowthDistance(A, B, **settings[i - 1])
+        ints, floats = solver._ints, solver._floats
         generic = gf.minkowski_sum(gf.affine(np.eye(3), A), gf.affine(-np.eye(3), B))
         gi, gfl = generic.program
         assert same_bits(ints, gi)
         assert same_bits(floats[:len(gfl)], gfl)
+        delta = solver.delta                            # made when read
+        assert delta._program[1] is floats
         assert list(delta._witness_slots) == list(generic._witness_slots)
         assert delta.witness_size == generic.witness_size
         ci, cf = _compile(delta)[0]                     # its tree, built when read
         assert same_bits(ci, gi) and same_bits(cf, gfl)
-        solver = gf.GrowthDistance(A, B, warm_start=False)
-        assert same_bits(solver._floats[len(gfl):], np.concatenate((
+        assert same_bits(floats[len(gfl):], np.concatenate((
             [GR.param_start(gi, 1) + 2, GR.param_start(gi, GR.children(gi, 0)[1]) + 2,
-             generic.witness_size, solver._code, solver.max_iter, 0.0, solver.eps,
-             solver.touching_tol, 0.0, GR.WARM_SPREAD], np.zeros(3))))
+             generic.witness_size, GR.METHODS[solver.method], solver.max_iter,
+             float(solver.warm_start), solver.eps, solver.touching_tol, 0.0, GR.WARM_SPREAD],
+            np.zeros(3))))
+        assert solver._size == GR.FRAME + GR.capacity(3, generic.witness_size)
 
 
 def test_closed_form_origin_verdicts_agree_with_facet_expansion():
@@ -215,3 +223,19 @@ def test_closed_form_origin_verdicts_agree_with_facet_expansion():
             decided += 1
             assert verdict == facet_expansion(X, 0.0, GR.ORIGIN_TOL, 500, True)[0], X
     assert decided > 150
+
+
+def test_growth_distance_keeps_composite_pairs_and_sets_up_primitives_per_call():
+    rng = np.random.default_rng(5)
+    pose_a = (np.eye(3), np.zeros(3))
+    pose_b = (np.linalg.qr(rng.normal(size=(3, 3)))[0], np.array([0.0, 0.0, 0.3]))
+    pose_b[0][:] *= np.sign(np.linalg.det(pose_b[0]))
+    cone = gf.TruncatedCone(0.03, 0.01, 0.08)
+    for A, kept in ((gf.Ellipsoid(np.zeros(3), np.diag([0.05, 0.03, 0.02])), False),
+                    (gf.Capsule(0.02, 0.04), True)):
+        first, again = (gf.growth_distance(A, pose_a, cone, pose_b) for _ in range(2))
+        assert (first._raw[0] is again._raw[0]) == kept
+        alone = gf.GrowthDistance(A, cone, warm_start=False)(pose_a, pose_b)
+        assert (first.sigma, first.sigma_lower, first.sigma_upper, first.status) == (
+            alone.sigma, alone.sigma_lower, alone.sigma_upper, alone.status) == (
+            again.sigma, again.sigma_lower, again.sigma_upper, again.status)

@@ -453,15 +453,22 @@ def test_fortran_ordered_input_is_read_by_rows():
 
 def test_delta_arrays_refuse_parts_that_are_not_the_block():
     from graspforce._core import delta_arrays, leaf_params
-    ints, floats = np.zeros(4, dtype=np.int64), np.zeros(10)
-    good = (1.0, np.ones(3))
-    assert delta_arrays(ints, floats, 0, 4, good, 4, 4, good)[1].tolist() == [1, 1, 1, 1] * 2 + [0, 0]
+    from graspforce._core.growth import METHOD, TAIL
+    ints, floats = np.zeros(4, dtype=np.int64), np.zeros(10 + TAIL)
+    good, settings = (1.0, np.ones(3)), (4, 100, 1, 1e-9, 0.5)
+    tail = [0.0] * TAIL
+    tail[METHOD:METHOD + 5] = settings
+    assert (delta_arrays(ints, floats, 0, 4, good, 4, 4, good, settings)[1].tolist()
+            == [1, 1, 1, 1] * 2 + [0, 0] + tail)
     for bad in ((1.0, np.ones(2)), (1.0, np.ones(4)), (1.0, np.ones(6)[::2]),
                 (1.0, np.ones(3, dtype=np.float32)), ("1", np.ones(3))):
         with pytest.raises(ValueError):
-            delta_arrays(ints, floats, 0, 4, bad, 4, 4, good)
+            delta_arrays(ints, floats, 0, 4, bad, 4, 4, good, settings)
     with pytest.raises(ValueError):
-        delta_arrays(ints, floats, 0, 4, good, 8, 4, good)          # past the floats
+        delta_arrays(ints, floats, 0, 4, good, 10 + TAIL, 4, good, settings)  # past the floats
+    for bad in (settings[:4], settings + (1.0,), (4, 100, True, 1e-9, 0.5)):
+        with pytest.raises(ValueError):
+            delta_arrays(ints, floats, 0, 4, good, 4, 4, good, bad)
     with pytest.raises(TypeError):
         leaf_params((1.0, [1.0, 2.0]))
 

@@ -45,11 +45,15 @@ def test_threads_on_one_set_agree_with_one_by_one():
         assert list(pool.map(shots, rays)) == alone
 
 
-def test_growth_distance_from_threads_on_the_same_shapes():
-    """gf.growth_distance keeps recent solvers, each of which writes its query's poses into its
-    program: threads calling it on the same shape objects at once must not share one."""
+@pytest.mark.parametrize("composite", [False, True])
+def test_growth_distance_from_threads_on_the_same_shapes(composite):
+    """gf.growth_distance keeps recent solvers of composite sets, each of which writes its
+    query's poses into its program: threads calling it on the same shape objects at once must not
+    share one (two primitives get a solver per call)."""
     rng = np.random.default_rng(8)
     A = gf.Ellipsoid(np.zeros(3), np.diag([0.05, 0.03, 0.02]))
+    if composite:
+        A = gf.Capsule(0.02, 0.04)
     B = gf.TruncatedCone(0.03, 0.01, 0.08)
 
     def rotation():

@@ -265,9 +265,15 @@ NB_MODULE(_core, m) {
     m.def(
         "delta_arrays",
         [](InI1 ints, In1 floats, gf::Int sa, gf::Int la, nb::tuple pa, gf::Int sb, gf::Int lb,
-           nb::tuple pb) {
+           nb::tuple pb, nb::tuple settings) {
+            // the settings fill the tail from METHOD to TOUCHING_TOL, in that order
+            static_assert(gf::growth::MAX_ITER == gf::growth::METHOD + 1 &&
+                          gf::growth::WARM_START == gf::growth::METHOD + 2 &&
+                          gf::growth::EPS == gf::growth::METHOD + 3 &&
+                          gf::growth::TOUCHING_TOL == gf::growth::METHOD + 4);
+            constexpr gf::Int ls = gf::growth::TOUCHING_TOL + 1 - gf::growth::METHOD;
             if (sa < 0 || sb < 0 || la < 0 || lb < 0 || sa + la > floats.rows ||
-                sb + lb > floats.rows)
+                sb + lb > floats.rows || floats.rows < gf::growth::TAIL)
                 throw nb::value_error("delta_arrays: a parameter block outside the floats");
             nb::object new_ints = numpy_copy(ints.data, ints.rows);
             nb::object new_floats = numpy_copy(floats.data, floats.rows);
@@ -276,13 +282,17 @@ NB_MODULE(_core, m) {
                 throw nb::value_error(
                     "delta_arrays: a leaf's parameter parts are not its template's block (numbers "
                     "and C-contiguous float64 arrays filling exactly la and lb entries)");
+            double* tail = f + floats.rows - gf::growth::TAIL;
+            if (write_parts(settings, tail + gf::growth::METHOD, ls) != ls)
+                throw nb::value_error("delta_arrays: settings must be the five numbers (method, "
+                                      "max_iter, warm_start, eps, touching_tol)");
             return nb::make_tuple(new_ints, new_floats);
         },
         "ints"_a.noconvert(), "floats"_a.noconvert(), "sa"_a, "la"_a, "pa"_a, "sb"_a, "lb"_a,
-        "pb"_a,
+        "pb"_a, "settings"_a,
         "(ints, floats): copies of a Delta template's program with the two leaves' parameter "
-        "parts (a leaf's `_param_parts`) written at sa and sb, filling la and lb entries "
-        "(graspforce.growth).");
+        "parts (a leaf's `_param_parts`) written at sa and sb, filling la and lb entries, and "
+        "the solver's settings in the tail from METHOD on (graspforce.growth).");
 
     m.def(
         "finite_min",

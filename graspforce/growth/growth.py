@@ -33,9 +33,9 @@ import numpy as np
 from .._core import capacity, delta_arrays, ellipsoid_origin
 from .._core import growth_query as query
 from .._core.shapes import INSIDE, THIN, UNDECIDED
-from .._core.growth import (BAD_POSE_A, COINCIDENT, EPS, FRAME, MA, MAX_ITER, MB, METHOD,
-                           NOT_CERTIFIED, OK, PENETRATING, POSES, SEPARATED, SPREAD, TAIL,
-                           TOUCHING, TOUCHING_TOL, WARM_SPREAD, WARM_START, WS)
+from .._core.growth import (BAD_POSE_A, COINCIDENT, FRAME, MA, MB, METHOD, NOT_CERTIFIED, OK,
+                           PENETRATING, POSES, SEPARATED, SPREAD, TAIL, TOUCHING, TOUCHING_TOL,
+                           WARM_SPREAD, WS)
 from ..geometry._kernel import children, param_start
 from .._validate import check_choice, finite_array
 from ..grasping.quality import facet_expansion
@@ -57,10 +57,15 @@ def growth_distance(A, pose_a, B, pose_b, method="zc-ie", eps=1e-9, max_iter=100
     pinocchio.SE3. Returns a GrowthDistanceResult: sigma with its bracket, status, point_a,
     point_b, normal. eps: relative bracket width (sigma_upper / sigma_lower - 1 <= eps).
 
-    The last 64 pairs (A, B) of the calling thread stay compiled, so repeated calls on the same
-    set objects cost what `GrowthDistance(A, B)(pose_a, pose_b)` costs; no warm start (the
-    answer depends only on the arguments).
+    Two primitives (leaves) are set up for each call from a template (~5 us; most such calls
+    come with shapes made for them, and keeping them costs those calls more than it saves the
+    others); a pair with a composite set keeps its compiled Delta among the last 64 pairs of the
+    calling thread, so repeated calls on those objects cost what `GrowthDistance(A, B)(pose_a,
+    pose_b)` costs. For many poses of one pair, use GrowthDistance (set up once, warm start).
+    No warm start here: the answer depends only on the arguments.
     """
+    if isinstance(A, Leaf) and isinstance(B, Leaf):
+        return GrowthDistance(A, B, method, eps, max_iter, touching_tol, False)(pose_a, pose_b)
     key = (id(A), id(B), method, eps, max_iter, touching_tol)
     try:
         recent = _RECENT.solvers
@@ -94,34 +99,28 @@ class GrowthDistance:
 
     def __init__(self, A, B, method="zc-ie", eps=1e-9, max_iter=10000, touching_tol=1e-9,
                  warm_start=True):
-        for name, X in (("A", A), ("B", B)):
-            if not isinstance(X, ConvexSet):
-                raise TypeError(f"{name}: expected a graspforce convex set, got "
-                                f"{type(X).__name__}")
-            if X.dim != 3:
-                raise ValueError(f"{name}: must be a 3-D set, got dimension {X.dim}")
-            _check_origin_interior(X, name)
+        _check_shape(A, "A")
+        _check_shape(B, "B")
         self._code = METHODS[check_choice(method, METHODS, "method")]
         self.A, self.B, self.method = A, B, method
         self.eps, self.max_iter = check_tolerances(eps, max_iter)
         if not (type(touching_tol) is float and 0.0 <= touching_tol < 1.0):
             raise ValueError(f"touching_tol: must be a float in [0, 1), got {touching_tol!r}")
         self.touching_tol = touching_tol
-        self.delta, ints, floats = _delta_program(A, B)
-        self._ints, self._floats = ints, floats
-        ws = self.delta.witness_size
-        self._leaves_a = 1 if isinstance(A, Leaf) else len(A.leaves())
         self.warm_start = bool(warm_start) and method == "zc-ie"
-        # the solver's constants in the program's tail (TAIL, core/growth/growth.hpp), which
-        # _delta_program began with Delta's own; one entry at a time (a slice from a tuple costs
-        # numpy's conversion)
-        tail = len(floats) - TAIL
-        floats[tail + METHOD] = self._code
-        floats[tail + MAX_ITER] = self.max_iter
-        floats[tail + WARM_START] = self.warm_start
-        floats[tail + EPS] = self.eps
-        floats[tail + TOUCHING_TOL] = touching_tol
-        self._size = FRAME + capacity(3, ws)
+        # the solver's constants, in the order of the program's tail from METHOD on
+        # (core/growth/growth.hpp)
+        settings = (self._code, self.max_iter, int(self.warm_start), self.eps, touching_tol)
+        self._delta, self._ints, self._floats, self._size = _delta_program(A, B, settings)
+
+    @property
+    def delta(self):
+        """Delta = R_A(A_0) - R_B(B_0), whose program the queries write their rotations into;
+        for two leaves made from a template when first read."""
+        delta = self._delta
+        if type(delta) is tuple:
+            delta = self._delta = _PosedDelta(self.A, self.B, self._ints, self._floats, *delta)
+        return delta
 
     def __call__(self, pose_a, pose_b):
         """The GrowthDistanceResult at these poses."""
@@ -170,7 +169,7 @@ class GrowthDistance:
             # coincident reference points: sigma = 0 and A(0) = B(0) = {p_A}; or no certified
             # simplex (max_iter): no contact to report
             return p_a.copy(), p_b.copy(), np.zeros(3)
-        split = self._leaves_a
+        split = 1 if isinstance(self.A, Leaf) else len(self.A.leaves())
         a = np.zeros(3)
         b = np.zeros(3)
         for weight, witness in zip(shot.weights, shot.witnesses):
@@ -204,11 +203,15 @@ def parse_pose(pose, name):
     return R, p
 
 
-def _check_origin_interior(X, name):
-    """The local origin must be interior (eq. 7), decided once per set: in closed form for the
-    primitives whose origin is clearly inside or clearly not (`_origin_verdict`), else certified
-    by facet expansion (graspforce.grasping.quality). A flat set, or one whose origin lies outside
-    or on its boundary, is rejected."""
+def _check_shape(X, name):
+    """X must be a 3-D graspforce set whose local origin is interior (eq. 7), decided once per
+    set: in closed form for the primitives whose origin is clearly inside or clearly not
+    (`_origin_verdict`), else certified by facet expansion (graspforce.grasping.quality). A flat
+    set, or one whose origin lies outside or on its boundary, is rejected."""
+    if not isinstance(X, ConvexSet):
+        raise TypeError(f"{name}: expected a graspforce convex set, got {type(X).__name__}")
+    if X.dim != 3:
+        raise ValueError(f"{name}: must be a 3-D set, got dimension {X.dim}")
     verdict = X.__dict__.get("_origin_interior")
     if verdict is None:
         verdict = _origin_verdict(X)
@@ -232,7 +235,12 @@ def _origin_verdict(X):
     centred Box, TruncatedCone, Capsule, and these under a zero-offset well-conditioned 3 x 3
     map), else None."""
     if isinstance(X, Ellipsoid):
-        return _ellipsoid_verdict(X)
+        # {c + S x : ||x|| <= 1} in R^3 holds the origin strictly iff S S^T = M is nonsingular
+        # and c^T M^-1 c < 1 (core/growth/shapes.hpp); rank < 3 is a disk, a segment or a point
+        if X.shape.shape[1] < 3:
+            return False
+        verdict = ellipsoid_origin(X.center, X.shape)
+        return None if verdict == UNDECIDED else verdict == INSIDE
     if isinstance(X, _AxisBox):
         half = X.half.tolist()
         if min(half) == 0.0:
@@ -269,22 +277,17 @@ def _origin_verdict(X):
     return None
 
 
-def _ellipsoid_verdict(E):
-    """{c + S x : ||x|| <= 1} in R^3 holds the origin strictly iff S S^T = M is nonsingular and
-    c^T M^-1 c < 1; q = c^T M^-1 c is the origin's squared scaled radius
-    (core/growth/shapes.hpp)."""
-    if E.dim != 3:
-        return None
-    if E.shape.shape[1] < 3:
-        return False                  # rank < 3: a disk, a segment or a point
-    verdict = ellipsoid_origin(E.center, E.shape)
-    return None if verdict == UNDECIDED else verdict == INSIDE
-
-
 class _PosedDelta(MinkowskiSum):
-    """Delta = R_A(A_0) - R_B(B_0) made from a template (`_delta_program`): its program is set
-    when it is made, and its tree (two Affine nodes, read by the records' witnesses) is built on
+    """Delta = R_A(A_0) - R_B(B_0) for two leaves whose program came from a template
+    (`_delta_program`): its tree (two Affine nodes, read by the records' witnesses) is built on
     first read."""
+
+    def __init__(self, A, B, ints, floats, witness_slots, witness_size):
+        self.dim = 3
+        self._made_of = (A, B)
+        self._program = (ints, floats)
+        self._witness_slots = witness_slots
+        self._witness_size = witness_size
 
     @property
     def sets(self):
@@ -302,28 +305,24 @@ _DELTA_TEMPLATES = {}
 MAX_TEMPLATES = 256     # pairs of leaf structures kept (polytopes of many vertex counts)
 
 
-def _delta_program(A, B):
-    """(Delta, ints, floats): its program, with the query's tail (TAIL, core/growth/growth.hpp) at
-    the end of floats, holding the offsets of R_A and -R_B in floats, the witness size and the first
-    spread. For two leaves, from a template per the leaves' kinds and layouts (their programs'
-    ints depend on nothing else), made by the generic compiler at the first such pair: a copy
-    with the leaves' parameter parts written in (~2 us against ~20 us for the tree and its
-    compile)."""
+def _delta_program(A, B, settings):
+    """(Delta, ints, floats, packed size): Delta's program with the query's tail (TAIL,
+    core/growth/growth.hpp) at the end of floats, holding the offsets of R_A and -R_B in floats,
+    the witness size, the first spread and the solver's settings (its entries from METHOD on).
+    For two leaves, from a template per the leaves' kinds and layouts (their programs' ints
+    depend on nothing else), made by the generic compiler at the first such pair: a copy with
+    the leaves' parameter parts and the settings written in by one compiled call (~1 us against
+    ~20 us for the tree and its compile); Delta is then given as its witness slots and size,
+    and made when first read (GrowthDistance.delta)."""
     leaves = isinstance(A, Leaf) and isinstance(B, Leaf)
     if leaves:
         key = (A.kind, A._layout(), B.kind, B._layout())
         template = _DELTA_TEMPLATES.get(key)
         if template is not None:
-            ints, floats, slots, ws, (sa, la, sb, lb) = template
+            ints, floats, (sa, la, sb, lb), witnesses, size = template
             ints, floats = delta_arrays(ints, floats, sa, la, A._param_parts(), sb, lb,
-                                        B._param_parts())
-            delta = _PosedDelta.__new__(_PosedDelta)
-            delta.dim = 3
-            delta._made_of = (A, B)
-            delta._program = (ints, floats)
-            delta._witness_slots = slots
-            delta._witness_size = ws
-            return delta, ints, floats
+                                        B._param_parts(), settings)
+            return witnesses, ints, floats, size
     delta = MinkowskiSum([Affine(np.eye(3), A), Affine(-np.eye(3), B)])
     ints, floats = delta.program
     # the query's constants and memory go at the end of the program's floats: the kernel reads
@@ -335,12 +334,14 @@ def _delta_program(A, B):
     tail = floats[-TAIL:]
     tail[MA], tail[MB] = (param_start(ints, node) + 2 for node in affines)
     tail[WS], tail[SPREAD] = delta.witness_size, WARM_SPREAD
+    size = FRAME + capacity(3, delta.witness_size)
     if leaves:
         sa, sb = (param_start(ints, children(ints, node)[0]) for node in affines)
         blocks = (sa, len(A._params()), sb, len(B._params()))
-        # copies taken before any query writes the poses and the solver's constants
+        # copies taken before any query writes the poses and the solver's settings
         if len(_DELTA_TEMPLATES) >= MAX_TEMPLATES:
             _DELTA_TEMPLATES.pop(next(iter(_DELTA_TEMPLATES)), None)
-        _DELTA_TEMPLATES[key] = (ints.copy(), floats.copy(), list(delta._witness_slots),
-                                 delta.witness_size, blocks)
-    return delta, ints, floats
+        _DELTA_TEMPLATES[key] = (ints.copy(), floats.copy(), blocks,
+                                 (list(delta._witness_slots), delta.witness_size), size)
+    tail[METHOD:TOUCHING_TOL + 1] = settings
+    return delta, ints, floats, size
