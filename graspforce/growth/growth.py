@@ -57,11 +57,12 @@ def growth_distance(A, pose_a, B, pose_b, method="zc-ie", eps=1e-9, max_iter=100
     pinocchio.SE3. Returns a GrowthDistanceResult: sigma with its bracket, status, point_a,
     point_b, normal. eps: relative bracket width (sigma_upper / sigma_lower - 1 <= eps).
 
-    Two primitives (leaves) are set up for each call from a template (~5 us; most such calls
-    come with shapes made for them, and keeping them costs those calls more than it saves the
-    others); a pair with a composite set keeps its compiled Delta among the last 64 pairs of the
-    calling thread, so repeated calls on those objects cost what `GrowthDistance(A, B)(pose_a,
-    pose_b)` costs. For many poses of one pair, use GrowthDistance (set up once, warm start).
+    Two primitives (leaves) are set up for each call from a template (~2 us on shapes checked
+    before; most such calls come with shapes made for them, and keeping them costs those calls
+    more than it saves the others); a pair with a composite set keeps its compiled Delta among
+    the last 64 pairs of the calling thread, so repeated calls on those objects cost what
+    `GrowthDistance(A, B)(pose_a, pose_b)` costs. For many poses of one pair, use
+    GrowthDistance (set up once, warm start).
     No warm start here: the answer depends only on the arguments.
     """
     if isinstance(A, Leaf) and isinstance(B, Leaf):
