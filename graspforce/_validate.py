@@ -30,7 +30,7 @@ def finite_scalar(value, name, minimum=None, exclusive=False):
         x = float(value)
     except (TypeError, ValueError):
         raise TypeError(f"{name}: expected a number") from None
-    if x - x != 0.0:                  # NaN or inf: no call (numpy's isfinite costs ~0.5 us)
+    if x - x != 0.0:                  # NaN or inf (x - x is NaN for both), without a call
         raise ValueError(f"{name}: must be finite (no NaN or inf)")
     if minimum is not None and (x <= minimum if exclusive else x < minimum):
         raise ValueError(f"{name}: must be {'>' if exclusive else '>='} {minimum}, got {x}")

@@ -51,9 +51,8 @@ def test_growth_distance_from_threads_on_the_same_shapes(composite):
     query's poses into its program: threads calling it on the same shape objects at once must not
     share one (two primitives get a solver per call)."""
     rng = np.random.default_rng(8)
-    A = gf.Ellipsoid(np.zeros(3), np.diag([0.05, 0.03, 0.02]))
-    if composite:
-        A = gf.Capsule(0.02, 0.04)
+    A = (gf.Capsule(0.02, 0.04) if composite
+         else gf.Ellipsoid(np.zeros(3), np.diag([0.05, 0.03, 0.02])))
     B = gf.TruncatedCone(0.03, 0.01, 0.08)
 
     def rotation():
