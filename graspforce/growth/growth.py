@@ -48,10 +48,12 @@ ORIGIN_TOL = 1e-9      # an origin closer than this fraction of the set's width 
                        # is not accepted as the interior point p_A of eq. (7)
 _VERDICTS = {SEPARATED: "separated", TOUCHING: "touching", PENETRATING: "penetrating",
              NOT_CERTIFIED: "max_iter"}
+# the defaults, one object each: a call that passes them on is not checked again
+DEFAULT_METHOD, DEFAULT_EPS, DEFAULT_MAX_ITER, DEFAULT_TOUCHING = "zc-ie", 1e-9, 10000, 1e-9
 
 
-def growth_distance(A, pose_a, B, pose_b, method="zc-ie", eps=1e-9, max_iter=10000,
-                    touching_tol=1e-9):
+def growth_distance(A, pose_a, B, pose_b, method=DEFAULT_METHOD, eps=DEFAULT_EPS,
+                    max_iter=DEFAULT_MAX_ITER, touching_tol=DEFAULT_TOUCHING):
     """g(A, B) of eq. (9)-(10) for 3-D convex sets A, B given in their local frames (whose
     origins are interior points) and poses as (R, p), 4x4 homogeneous matrices or
     pinocchio.SE3. Returns a GrowthDistanceResult: sigma with its bracket, status, point_a,
@@ -98,16 +100,20 @@ class GrowthDistance:
     floats (core/growth/growth.hpp).
     """
 
-    def __init__(self, A, B, method="zc-ie", eps=1e-9, max_iter=10000, touching_tol=1e-9,
-                 warm_start=True):
+    def __init__(self, A, B, method=DEFAULT_METHOD, eps=DEFAULT_EPS, max_iter=DEFAULT_MAX_ITER,
+                 touching_tol=DEFAULT_TOUCHING, warm_start=True):
         _check_shape(A, "A")
         _check_shape(B, "B")
-        self._code = METHODS[check_choice(method, METHODS, "method")]
+        if not (method is DEFAULT_METHOD and eps is DEFAULT_EPS and max_iter is DEFAULT_MAX_ITER
+                and touching_tol is DEFAULT_TOUCHING):
+            check_choice(method, METHODS, "method")
+            eps, max_iter = check_tolerances(eps, max_iter)
+            if not (type(touching_tol) is float and 0.0 <= touching_tol < 1.0):
+                raise ValueError(f"touching_tol: must be a float in [0, 1), got "
+                                 f"{touching_tol!r}")
+        self._code = METHODS[method]
         self.A, self.B, self.method = A, B, method
-        self.eps, self.max_iter = check_tolerances(eps, max_iter)
-        if not (type(touching_tol) is float and 0.0 <= touching_tol < 1.0):
-            raise ValueError(f"touching_tol: must be a float in [0, 1), got {touching_tol!r}")
-        self.touching_tol = touching_tol
+        self.eps, self.max_iter, self.touching_tol = eps, max_iter, touching_tol
         self.warm_start = bool(warm_start) and method == "zc-ie"
         # the solver's constants, in the order of the program's tail from METHOD on
         # (core/growth/growth.hpp)
