@@ -63,9 +63,8 @@ def growth_distance(A, pose_a, B, pose_b, method=DEFAULT_METHOD, eps=DEFAULT_EPS
     before; most such calls come with shapes made for them, and keeping them costs those calls
     more than it saves the others); a pair with a composite set keeps its compiled Delta among
     the last 64 pairs of the calling thread, so repeated calls on those objects cost what
-    `GrowthDistance(A, B)(pose_a, pose_b)` costs. For many poses of one pair, use
-    GrowthDistance (set up once, warm start).
-    No warm start here: the answer depends only on the arguments.
+    `GrowthDistance(A, B)(pose_a, pose_b)` costs. No warm start here: the answer depends only on
+    the arguments; for many poses of one pair, use GrowthDistance (set up once, warm start).
     """
     if isinstance(A, Leaf) and isinstance(B, Leaf):
         return GrowthDistance(A, B, method, eps, max_iter, touching_tol, False)(pose_a, pose_b)
