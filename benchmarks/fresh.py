@@ -18,8 +18,8 @@ Cases, each query timed on its own (perf_counter_ns, garbage collector off), med
   (no warm start), the compiled `growth_query` alone, and `gf.growth_distance` called again on
   the same two shapes (which it sets up again: it keeps only composite sets).
 - (d) min_force (zc-ie, L1) on one reused grasp of (a), 1000 wrenches, after a pass that builds
-  its start table; the compiled call alone with the grasp's own arguments (Grasp._call); the
-  fixed cost is the difference of the medians. The same for a reused GrowthDistance, and for
+  its start table; the compiled call alone with the grasp's own capsule (`min_force_compiled`:
+  the shot, its forces and the record); the fixed cost is the difference of the medians. The same for a reused GrowthDistance, and for
   queries whose compiled call returns at once (a zero wrench, coincident reference points).
 With --before, every query of (a)-(c) is also run by the other checkout (its Python package, with
 its own compiled core from its build folder, as benchmarks/ab.py loads it), alternately, on the
@@ -37,7 +37,7 @@ import numpy as np
 
 import graspforce as gf
 from graspforce import _core
-from graspforce.geometry._start_table import NO_TABLE, start_table
+from graspforce.geometry._start_table import NO_TABLE
 
 OUT = Path(__file__).resolve().parent / "results" / "fresh.md"
 RADIUS, MU, MU_S = 0.05, 0.6, 0.01
@@ -151,16 +151,14 @@ def run_reused(n, rng):
     grasp = gf.Grasp([gf.Contact(p, n_, MU, MU_S) for p, n_ in finger_points(rng)])
     wrenches = [wrench(rng) for _ in range(n)]
     for w in wrenches[:3]:
-        grasp.min_force(w)                     # the start table is built at the second shot
-    space, code, shoot, args, A, size, _, _, _ = grasp._call("L1", "normal", "zc-ie")
-    table = start_table(A, 6)
+        grasp.min_force(w)        # the start table is built at the second shot, the capsule at the third
+    call = grasp._compiled["L1", "normal", "zc-ie"]
     whole, compiled = [], []
     for i, w in enumerate(wrenches):
-        packed = np.empty(size)
         # in turns first: the second call on a wrench finds the first's data in the caches
         if i % 2:
             whole.append(timed(lambda: grasp.min_force(w)))
-        compiled.append(timed(lambda: shoot(w, code, 1e-9, 10000, packed, table, *args)))
+        compiled.append(timed(lambda: _core.min_force_compiled(call, w)))
         if not i % 2:
             whole.append(timed(lambda: grasp.min_force(w)))
     return whole, compiled
@@ -172,9 +170,9 @@ def run_trivial(n, rng):
     reused GrowthDistance; the two alternate, whole and compiled in turns first."""
     grasp = gf.Grasp([gf.Contact(p, n_, MU, MU_S) for p, n_ in finger_points(rng)])
     zero = np.zeros(6)
-    grasp.min_force(zero)
-    _, code, shoot, args, A, size, _, _, _ = grasp._call("L1", "normal", "zc-ie")
-    table = start_table(A, 6)
+    for _ in range(3):
+        grasp.min_force(zero)
+    call = grasp._compiled["L1", "normal", "zc-ie"]
     axes, (rb, rt, h), pose_a, _ = shape_pair(rng)
     solver = gf.GrowthDistance(gf.Ellipsoid(np.zeros(3), np.diag(axes)),
                                gf.TruncatedCone(rb, rt, h), warm_start=False)
@@ -182,7 +180,7 @@ def run_trivial(n, rng):
     calls = {
         "min_force of a zero wrench, reused grasp": (
             lambda: grasp.min_force(zero),
-            lambda: shoot(zero, code, 1e-9, 10000, np.empty(size), table, *args)),
+            lambda: _core.min_force_compiled(call, zero)),
         "growth distance at coincident reference points, reused GrowthDistance": (
             lambda: solver(pose_a, pose_a),
             lambda: _core.growth_query(solver._ints, solver._floats, *pose_a, *pose_a,

@@ -14,6 +14,7 @@
 
 #include "python/python.hpp"
 #include "python/batch.hpp"
+#include "python/min_force_call.hpp"
 #include "python/testing.hpp"
 #include "python/timing.hpp"
 
@@ -116,6 +117,34 @@ NB_MODULE(_core, m) {
         "start"_a.noconvert(), "ints"_a.noconvert(), "floats"_a.noconvert(),
         "reader"_a.noconvert(), "span"_a.noconvert(),
         "One min_force call: the shot at W along -w_ext and the forces read off Z_W(r).");
+
+    // a capsule, not a class: two builds of the core loaded in one process (benchmarks/ab.py)
+    // share nanobind's registry of classes, where the second could not register its own
+    m.def(
+        "min_force_call",
+        [](nb::type_object record_type, nb::tuple names, nb::tuple target, gf::Int method,
+           double eps, gf::Int max_iter, gf::Int size, nb::object start, nb::object ints,
+           nb::object floats, nb::object reader, nb::object span, double t_scale,
+           gf::Int contacts) {
+            auto* call = new MinForceCall(record_type, names, target, method, eps, max_iter,
+                                          size, start, ints, floats, reader, span, t_scale,
+                                          contacts);
+            return nb::capsule(call, MinForceCall::NAME, [](void* p) noexcept {
+                delete static_cast<MinForceCall*>(p);
+            });
+        },
+        "record_type"_a, "names"_a, "target"_a, "method"_a, "eps"_a, "max_iter"_a, "size"_a,
+        "start"_a, "ints"_a, "floats"_a, "reader"_a, "span"_a, "t_scale"_a, "contacts"_a,
+        "Grasp.min_force's common call with these constants, for min_force_compiled.");
+
+    m.def(
+        "min_force_compiled",
+        [](nb::handle call, nb::handle w_ext) {
+            return MinForceCall::of(call)(w_ext);
+        },
+        "call"_a, "w_ext"_a,
+        "The MinForce record of w_ext from min_force_call's capsule (the shot, its forces "
+        "and the record in one call), or None where Grasp.min_force's general path answers.");
 
     m.def(
         "shoot_warm",

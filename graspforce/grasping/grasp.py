@@ -3,7 +3,8 @@ import math
 
 import numpy as np
 
-from .._core import BAD_WRENCH, FULL_SET, HIT, MISS, ZERO_WRENCH, shoot_and_read_forces
+from .._core import (BAD_WRENCH, FULL_SET, HIT, MISS, ZERO_WRENCH, min_force_call,
+                     min_force_compiled, shoot_and_read_forces)
 from ..geometry._start_table import UNSEEN, start_table
 from .._validate import check_choice, finite_array, finite_scalar, finite_vector
 from .contact import Contact
@@ -60,6 +61,7 @@ class Grasp:
         self._values = grasp_values(contacts)
         self._spaces = {}
         self._calls = {}
+        self._compiled = {}
 
     def __len__(self):
         return len(self.contacts)
@@ -67,7 +69,7 @@ class Grasp:
     def __getstate__(self):
         # the wrench spaces are caches built on first use, and hold compiled entry points that do
         # not pickle
-        return {**self.__dict__, "_spaces": {}, "_calls": {}}
+        return {**self.__dict__, "_spaces": {}, "_calls": {}, "_compiled": {}}
 
     @property
     def length(self):
@@ -130,8 +132,24 @@ class Grasp:
         span (the set Q^T W, the ray Q^T r); a load outside it, or a shot there that ends
         uncertified, at the full-dimensional set.
         """
+        key = (norm, magnitude, method)
+        compiled = None
+        if (eps is EPS or type(eps) is float and eps == EPS) and (
+                max_iter is MAX_ITER or type(max_iter) is int and max_iter == MAX_ITER):
+            # the defaults' values need no check below; the common call, once the set's start
+            # table is settled, is one compiled call (core/python/min_force_call.hpp), None
+            # where the path below answers
+            eps, max_iter = EPS, MAX_ITER
+            try:
+                compiled = self._compiled.get(key)
+            except TypeError:      # an unhashable argument: _call names it
+                pass
+            if compiled is not None:
+                record = min_force_compiled(compiled, w_ext)
+                if record is not None:
+                    return record
         try:
-            call = self._calls.get((norm, magnitude, method))
+            call = self._calls.get(key)
         except TypeError:          # an unhashable argument: _call names it
             call = None
         if call is None:
@@ -140,6 +158,13 @@ class Grasp:
         if eps is not EPS or max_iter is not MAX_ITER:   # the defaults need no check
             eps, max_iter = check_tolerances(eps, max_iter)
         start = start_table(A, ray_dims)
+        if compiled is None and start is A._start_table and eps is EPS and max_iter is MAX_ITER:
+            # the table settled (built, or none to build): later calls of these settings take
+            # the compiled call
+            self._compiled[key] = min_force_call(
+                MinForce, (norm, magnitude, method, "optimal", "max_iter", "infeasible"),
+                (A, extra, space), code, EPS, MAX_ITER, size, start, *args, t_scale,
+                len(self.contacts))
         packed = np.empty(size)
         # the common call, a float64 (6,) array, goes straight to the compiled code, which
         # checks it too; anything else (which the compiled code does not take: a TypeError), or
@@ -198,6 +223,7 @@ class Grasp:
         the path to an answer and so its last digits, within eps. The service calls this
         before every answer from a cached grasp, so that an answer depends on its request
         alone and equals the library's first call."""
+        self._compiled.clear()
         for space in self._spaces.values():
             for target in space._targets.values():
                 target.set._start_table = UNSEEN
