@@ -216,7 +216,9 @@ class MinForce:
 
     # slots: min_force builds one record per call, and slot stores cost about half a dict's
     # (0.1-0.3 us of a ~8 us call, timed over a pass of 1000 wrenches); _forces and _shot are
-    # left unset until first read
+    # left unset until first read. A reused grasp's compiled call (core/python/min_force_call.hpp)
+    # writes the slots that from_packed sets, found by name: a slot from_packed sets is one it
+    # must set too
     __slots__ = ("feasible", "status", "sigma", "sigma_lower", "norm", "magnitude", "method",
                  "iterations", "support_calls", "ray", "_contacts", "_forces", "_shot")
 
