@@ -19,8 +19,9 @@ Cases, each query timed on its own (perf_counter_ns, garbage collector off), med
   the same two shapes (which it sets up again: it keeps only composite sets).
 - (d) min_force (zc-ie, L1) on one reused grasp of (a), 1000 wrenches, after a pass that builds
   its start table; the compiled call alone with the grasp's own capsule (`min_force_compiled`:
-  the shot, its forces and the record); the fixed cost is the difference of the medians. The same for a reused GrowthDistance, and for
-  queries whose compiled call returns at once (a zero wrench, coincident reference points).
+  the shot, its forces and the record); the fixed cost is the difference of the medians. The
+  same for a reused GrowthDistance, and for queries whose compiled call returns at once (a zero
+  wrench, coincident reference points).
 With --before, every query of (a)-(c) is also run by the other checkout (its Python package, with
 its own compiled core from its build folder, as benchmarks/ab.py loads it), alternately, on the
 same inputs.
@@ -150,8 +151,9 @@ def run_reused(n, rng):
     """min_force on one reused grasp and its compiled call alone, per wrench, alternating."""
     grasp = gf.Grasp([gf.Contact(p, n_, MU, MU_S) for p, n_ in finger_points(rng)])
     wrenches = [wrench(rng) for _ in range(n)]
+    # the start table is built at the second shot, the compiled call's capsule at the third
     for w in wrenches[:3]:
-        grasp.min_force(w)        # the start table is built at the second shot, the capsule at the third
+        grasp.min_force(w)
     call = grasp._compiled["L1", "normal", "zc-ie"]
     whole, compiled = [], []
     for i, w in enumerate(wrenches):
