@@ -353,6 +353,38 @@ def test_default_zc_ie_on_the_lift():
     assert np.median(iterations["zc-ie"]) <= 0.5 * np.median(iterations["zc-ie-paper"])
 
 
+def test_default_zc_ie_on_the_full_magnitudes_l1_is_the_general_finish():
+    """On W_L1 of the full magnitude (cone caps, which the smooth path does not take)
+    min_force's "zc-ie" runs the Newton finish's general path, zc-ie-newton's steps: every answer
+    certifies itself and agrees with the paper's ZC-IE within eps, in at most half its median
+    iterations. On W_Linf of the full magnitude it stays the paper's."""
+    from benchmarks.families import FAMILIES
+    from grasp_cases import plain
+    from test_certificates import check_optimal
+    rng = np.random.default_rng(12)
+    iterations = {"zc-ie": [], "zc-ie-paper": []}
+    for family in ("ingot", "sphere-4", "feet"):
+        grasp, loads = FAMILIES[family](rng, 10)
+        P = plain(grasp)
+        for norm in ("L1", "Linf"):
+            # the sets' start tables, built at their second shot, before any compared call
+            grasp.min_force(loads[0], norm, "full")
+            grasp.min_force(loads[0], norm, "full")
+        for w in loads:
+            res = {method: grasp.min_force(w, "L1", "full", method)
+                   for method in ("zc-ie", "zc-ie-newton", "zc-ie-paper")}
+            check_optimal(grasp, P, w, res["zc-ie"], family)
+            assert (res["zc-ie"].sigma, res["zc-ie"].iterations, res["zc-ie"].support_calls) == (
+                res["zc-ie-newton"].sigma, res["zc-ie-newton"].iterations,
+                res["zc-ie-newton"].support_calls)
+            assert abs(res["zc-ie"].sigma / res["zc-ie-paper"].sigma - 1) <= 2e-9
+            for method in iterations:
+                iterations[method].append(res[method].iterations)
+            linf = [grasp.min_force(w, "Linf", "full", m) for m in ("zc-ie", "zc-ie-paper")]
+            assert (linf[0].sigma, linf[0].iterations) == (linf[1].sigma, linf[1].iterations)
+    assert np.median(iterations["zc-ie"]) <= 0.5 * np.median(iterations["zc-ie-paper"])
+
+
 def test_default_zc_ie_on_growth_is_the_papers():
     """Growth distance shoots at Δ, a sum of two posed shapes: "zc-ie" answers exactly as
     "zc-ie-paper"."""
