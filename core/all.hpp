@@ -9,6 +9,7 @@
 #include "shooting/corral.hpp"
 #include "shooting/distance.hpp"
 #include "shooting/newton.hpp"
+#include "shooting/sum_finish.hpp"
 #include "shooting/shot.hpp"
 #include "shooting/zc_family.hpp"
 #include "shooting/gjk_based.hpp"

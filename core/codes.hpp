@@ -26,6 +26,10 @@ constexpr Int ELLIPSE_HULL = 3;     // the same of ellipses (6, 2): point contac
 // grasp's wrench set in its span)
 constexpr Int PROJECTED_ELLIPSOID_HULL = 4;
 constexpr Int PROJECTED_ELLIPSE_HULL = 5;
+// W_Linf itself: a sum in R^6 of hulls CH({0} U E_i), E_i an ellipsoid with 3 axes (soft
+// fingers) or 2 (point contacts)
+constexpr Int ORIGIN_ELLIPSOID_SUM = 6;
+constexpr Int ORIGIN_ELLIPSE_SUM = 7;
 
 // the offsets in `ints` of a program's blocks, for a program of nn nodes
 struct Blocks {

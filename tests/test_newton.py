@@ -331,26 +331,57 @@ def test_default_zc_ie_on_embeddings_with_their_origins(check_hit):
     assert np.median(iterations["zc-ie"]) < np.median(iterations["zc-ie-paper"])
 
 
+def _linf_iterations(cases, label):
+    """min_force Linf by "zc-ie" and "zc-ie-paper" on (grasp, loads) cases: every answer
+    certifies itself (test_certificates.check_optimal) and the two agree within eps; their
+    iterations."""
+    from grasp_cases import plain
+    from test_certificates import check_optimal
+    iterations = {"zc-ie": [], "zc-ie-paper": []}
+    for grasp, loads in cases:
+        P = plain(grasp)
+        for w in loads:
+            res = {method: grasp.min_force(w, "Linf", method=method) for method in iterations}
+            for method, r in res.items():
+                check_optimal(grasp, P, w, r, (label, method))
+                iterations[method].append(r.iterations)
+            assert abs(res["zc-ie"].sigma / res["zc-ie-paper"].sigma - 1) <= 2e-9
+    return iterations
+
+
 def test_default_zc_ie_on_the_lift():
     """min_force Linf shoots at W_Linf's lift, a hull of embeddings {e_i} x CH({0} U W_i): where
     the contacts that push hardest saturate friction (soft fingers around a sphere) the smooth
     path finishes it; every answer certifies itself (test_certificates.check_optimal) and agrees
     with the paper's ZC-IE within eps, in at most half its median iterations."""
     from benchmarks.families import FAMILIES
-    from grasp_cases import plain
-    from test_certificates import check_optimal
     rng = np.random.default_rng(9)
-    iterations = {"zc-ie": [], "zc-ie-paper": []}
-    for m in (3, 4, 5):
-        grasp, loads = FAMILIES[f"sphere-{m}"](rng, 12)
-        P = plain(grasp)
-        for w in loads:
-            res = {method: grasp.min_force(w, "Linf", method=method) for method in iterations}
-            for method, r in res.items():
-                check_optimal(grasp, P, w, r, (m, method))
-                iterations[method].append(r.iterations)
-            assert abs(res["zc-ie"].sigma / res["zc-ie-paper"].sigma - 1) <= 2e-9
+    iterations = _linf_iterations([FAMILIES[f"sphere-{m}"](rng, 12) for m in (3, 4)], "lift")
     assert np.median(iterations["zc-ie"]) <= 0.5 * np.median(iterations["zc-ie-paper"])
+
+
+def test_default_zc_ie_on_the_linf_sum():
+    """From five soft fingers min_force Linf shoots W_Linf itself, a sum of CH({0} U E_i), with
+    the Newton finish on the contacts' states (core/shooting/sum_finish.hpp: on, off, pushing
+    less than the most, with friction saturated or not): every answer certifies itself
+    (test_certificates.check_optimal) and agrees with the paper's ZC-IE on the lift within eps,
+    in at most half its median iterations. Ten point contacts around a sphere (past the lift's
+    eight: the sum for every method) finish the same way, in at most half the iterations of the
+    paper's steps on the sum."""
+    from benchmarks.families import FAMILIES
+    rng = np.random.default_rng(13)
+    soft = [FAMILIES["sphere-5"](rng, 12) for _ in range(2)]
+    loads = np.hstack((rng.normal(0.0, 5.0, (12, 3)), rng.normal(0.0, 0.1, (12, 3))))
+    points = []
+    for _ in range(2):
+        p = rng.standard_normal((10, 3))
+        p = 0.05 * p / np.linalg.norm(p, axis=1)[:, None]
+        points.append((gf.Grasp([gf.Contact(x, -x / 0.05, rng.uniform(0.4, 1.0)) for x in p]),
+                       loads))
+    for label, cases in (("soft", soft), ("point", points)):
+        iterations = _linf_iterations(cases, label)
+        ratio = np.median(iterations["zc-ie"]) / np.median(iterations["zc-ie-paper"])
+        assert ratio <= 0.5, (label, ratio)
 
 
 def test_default_zc_ie_on_the_full_magnitudes_l1_is_the_general_finish():

@@ -340,6 +340,37 @@ def test_ellipsoid_hulls_take_one_loop_that_matches_the_general_passes():
         assert A.program[0][-1] == K.GENERAL
 
 
+def test_linf_sums_take_one_loop_that_matches_the_general_passes():
+    # W_Linf itself, a sum of hulls CH({0} U E_i) with the origin first (ORIGIN_ELLIPSOID_SUM
+    # for soft fingers, ORIGIN_ELLIPSE_SUM for point contacts): the plan's loop gives the passes'
+    # value, point and witnesses bit for bit, including directions where some E_i lie behind the
+    # origin and a tie at h_{E_i} = 0; the origin second, or off 0, keeps the passes
+    from graspforce.geometry import _kernel as K
+    rng = np.random.default_rng(27)
+    for axes, plan in ((3, K.ORIGIN_ELLIPSOID_SUM), (2, K.ORIGIN_ELLIPSE_SUM)):
+        W = [gf.Ellipsoid(*random_ellipsoid(rng, 6, axes, c_scale=1.0)) for _ in range(5)]
+        A = gf.minkowski_sum(*[gf.hull(gf.Polytope(np.zeros((1, 6))), E) for E in W])
+        assert A.program[0][-1] == plan
+        # a direction where E_0's support is exactly 0 (its centre's part cancels ||S^T u||)
+        E = W[0]
+        u = rng.standard_normal(6)
+        u -= E.center * (E.center @ u + np.linalg.norm(E.shape.T @ u)) / (E.center @ E.center)
+        dirs = np.vstack((unit_dirs(rng, 6, 300), [u]))
+        chosen = set()
+        for u in dirs:
+            h, point, wit = _support_by(plan, A, u)
+            h_ref, point_ref, wit_ref = _support_by(K.GENERAL, A, u)
+            assert h == h_ref and (point == point_ref).all() and (wit == wit_ref).all()
+            chosen.add(tuple(wit[start] for start, size in A._witness_slots if size > 2))
+        # both the origin and E_i won for every contact over these directions
+        assert all(len({c[i] for c in chosen}) == 2 for i in range(len(W)))
+    W = [gf.Ellipsoid(*random_ellipsoid(rng, 6, 3)) for _ in range(3)]
+    second = gf.minkowski_sum(*[gf.hull(E, gf.Polytope(np.zeros((1, 6)))) for E in W])
+    off = gf.minkowski_sum(*[gf.hull(gf.Polytope(np.ones((1, 6))), E) for E in W])
+    for A in (second, off):
+        assert A.program[0][-1] == K.GENERAL
+
+
 def test_posed_sums_take_one_loop_that_matches_the_general_passes():
     # growth distance's Delta = R_A(A_0) - R_B(B_0) and any sum of leaves under 3x3 maps: the
     # plan's loop (graspforce.geometry._kernel.POSED_SUM) gives the passes' value, point and

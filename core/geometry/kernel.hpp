@@ -388,6 +388,59 @@ inline double projected_ellipsoid_hull(IVec ints, Vec f, Vec u, Vec point, Vec w
     return h;
 }
 
+// `support` for the plans ORIGIN_ELLIPSOID_SUM (K = 3) and ORIGIN_ELLIPSE_SUM (K = 2): W_Linf,
+// a root sum of hulls CH({0} U E_i), each hull's children the origin (a polytope of one vertex)
+// and then an ellipsoid {c + S x : ||x|| <= 1} in R^6 with S (6, K). A contact adds
+// max(0, h_{E_i}(u)) and its point, or nothing (the origin wins a tie, as the hull's first
+// child); the same arithmetic, in the same order, as the passes' leaf values and points.
+template <int K>
+inline double origin_ellipsoid_sum(IVec ints, Vec f, Vec u, Vec point, Vec wit) {
+    const Blocks B = blocks(ints[0]);
+    const Int first = B.CHILDREN + ints[B.CSTART];
+    double h = 0.0;
+    double pt[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    for (Int c = 0; c < ints[B.CCOUNT]; ++c) {
+        const Int c0 = B.CHILDREN + ints[B.CSTART + ints[first + c]];
+        const Int wo = ints[B.WSTART + ints[c0]];
+        const Int e = ints[c0 + 1];
+        const Int we = ints[B.WSTART + e];
+        const Int p = ints[B.PSTART + e] + 2;   // c (6), then S (6, K) row-major
+        double y[K];
+        double nrm2 = 0.0;
+        for (Int b = 0; b < K; ++b) {
+            double s = 0.0;
+            for (Int a = 0; a < 6; ++a) s += f[p + 6 + K * a + b] * u[a];
+            y[b] = s;
+            nrm2 += s * s;
+        }
+        double he = std::sqrt(nrm2);
+        for (Int a = 0; a < 6; ++a) he += f[p + a] * u[a];
+        wit[wo + 1] = 0.0;
+        if (!(he > 0.0)) {
+            wit[wo] = 1.0;
+            wit[we] = 0.0;
+            for (Int b = 0; b < K; ++b) wit[we + 1 + b] = y[b];
+            h += 0.0;
+            continue;
+        }
+        wit[wo] = 0.0;
+        wit[we] = 1.0;
+        const double inv = nrm2 > 0.0 ? 1.0 / std::sqrt(nrm2) : 0.0;
+        for (Int b = 0; b < K; ++b) {
+            y[b] *= inv;
+            wit[we + 1 + b] = y[b];
+        }
+        for (Int a = 0; a < 6; ++a) {
+            double s = f[p + a];
+            for (Int b = 0; b < K; ++b) s += f[p + 6 + K * a + b] * y[b];
+            pt[a] += s;
+        }
+        h += he;
+    }
+    for (Int a = 0; a < 6; ++a) point[a] = pt[a];
+    return h;
+}
+
 // `support` for the plan POSED_SUM: the root sums children x -> M x + t in R^3, each over a
 // 3-D leaf. One loop over the children with the direction M^T u and the leaf's point in
 // registers. Ellipsoids with 3 axes and truncated cones are evaluated in registers; other leaves
@@ -478,6 +531,8 @@ double support(IVec ints, Vec f, Vec u, Vec point, Vec wit) {
         return projected_ellipsoid_hull<3>(ints, f, u, point, wit);
     if (plan == PROJECTED_ELLIPSE_HULL) return projected_ellipsoid_hull<2>(ints, f, u, point, wit);
     if (plan == POSED_SUM) return posed_sum(ints, f, u, point, wit);
+    if (plan == ORIGIN_ELLIPSOID_SUM) return origin_ellipsoid_sum<3>(ints, f, u, point, wit);
+    if (plan == ORIGIN_ELLIPSE_SUM) return origin_ellipsoid_sum<2>(ints, f, u, point, wit);
     const Int nn = ints[0];
     const auto [KIND, DIM, PSTART, CSTART, CCOUNT, WSTART, DSTART, OSTART, CHOICE, ACTIVE,
                 CHILDREN] = blocks(nn);

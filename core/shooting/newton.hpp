@@ -357,6 +357,39 @@ template <int FN = 0, int FK = 0>
     return {cu + rho, rho};
 }
 
+// One Newton step on a KKT system K (N, N; FAST_K-strided rows) and its right side, on the
+// stack (KktWork): dx by LU, or a basic solution where K is singular (not ok when its rank is
+// below n), then u += dx[:n]. basic: K was singular; du = max |dx[:n]|, un = max |u| after.
+struct KktWork {
+    double K[FAST_K * FAST_K];
+    double lu[FAST_K * FAST_K];
+    double rhs[FAST_K];
+    double dx[FAST_K];
+    Int prow[FAST_K];
+    Int pcol[FAST_K];
+};
+struct KktStep {
+    bool ok;
+    bool basic;
+    double du;
+    double un;
+};
+inline KktStep kkt_step(KktWork& w, Int N, double* u, Int n, bool r6) {
+    double* const dx = w.dx;
+    const bool basic = !(r6 ? small_solve_r6(w.K, w.lu, w.rhs, dx, N)
+                            : small_solve(w.K, w.lu, w.rhs, dx, N));
+    if (basic && solve_basic(Mat{w.K, N, N, FAST_K}, N, Mat{w.lu, N, N, FAST_K},
+                             IVec{w.prow, N}, IVec{w.pcol, N}, Vec{w.rhs, N}, Vec{dx, N}) < n)
+        return {false, basic, 0.0, 0.0};
+    double du = 0.0, un = 0.0;
+    for (Int a = 0; a < n; ++a) {
+        u[a] += dx[a];
+        du = std::max(du, std::abs(dx[a]));
+        un = std::max(un, std::abs(u[a]));
+    }
+    return {true, basic, du, un};
+}
+
 // newton_finish's answer when it gives up, for a set in R^n and witnesses of ws entries
 inline NewtonOut ellipsoid_failed(double t, double t_up, double h, Int steps, Int calls, Int n,
                                   Int ws) {
@@ -446,12 +479,10 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
     double SX[FAST_N * FAST_N];   // their S x
     double hv[FAST_N];
     double rho[FAST_N];
-    double K[FAST_K * FAST_K];
-    double lu[FAST_K * FAST_K];
-    double rhs[FAST_K];
-    double dx[FAST_K];
-    Int prow[FAST_K];
-    Int pcol[FAST_K];
+    KktWork kw;
+    double* const K = kw.K;
+    double* const rhs = kw.rhs;
+    double* const dx = kw.dx;
     Int steps = 0;
     Int calls = 0;
     Int changes = 0;
@@ -585,17 +616,10 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             for (Int a2 = 0; a2 < a; ++a2) K[a * FAST_K + a2] = K[a2 * FAST_K + a];
         // singular where the face's normal cone is wider than a ray (one soft finger's
         // 3-D ellipsoid in R^6): a basic solution, as the general path's
-        if (!(FN == 6 ? small_solve_r6(K, lu, rhs, dx, N) : small_solve(K, lu, rhs, dx, N)) &&
-            solve_basic(Mat{K, N, N, FAST_K}, N, Mat{lu, N, N, FAST_K}, IVec{prow, N},
-                        IVec{pcol, N}, Vec{rhs, N}, Vec{dx, N}) < n)
-            return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
+        const KktStep step = kkt_step(kw, N, u, n, FN == 6);
+        if (!step.ok) return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
         steps += 1;
-        double du = 0.0, un = 0.0;
-        for (Int a = 0; a < n; ++a) {
-            u[a] += dx[a];
-            du = std::max(du, std::abs(dx[a]));
-            un = std::max(un, std::abs(u[a]));
-        }
+        const double du = step.du, un = step.un;
         Int worst = -1;
         double rest = e_sum;
         for (Int p = 0; p < m; ++p) {
@@ -935,24 +959,6 @@ NewtonOut newton_finish(IVec ints, Vec f, Vec r, double eps, Mat P, Mat Wt, Vec 
         converged = du <= STEP_TOL * un;
     }
     return failed(t, INF, 0.0, steps, calls, nrmA, S, lmA, WS);
-}
-
-// Whether smooth_finish can take a shot at this set: a hull of ellipsoid leaves (W_L1 of soft or
-// point contacts) or of embeddings of one each with the origin (W_Linf's lift).
-bool smooth_finish_applies(IVec ints, Vec f, Int n) {
-    bool embedded;
-    return newton_detail::ellipsoid_hull_columns(ints, f, n, embedded) >= 0;
-}
-
-// newton_finish's plain steps where every piece of the exit face is smooth (`ellipsoid_finish`);
-// not ok, after no step and with no arrays, where a piece is flat or at its kink (most tries on
-// grasps whose friction is not saturated end so: ZC-IE reads only ok, steps and calls of it).
-NewtonOut smooth_finish(IVec ints, Vec f, Vec r, double eps, Mat Wt, Vec lam, Int k, Vec normal,
-                        double t) {
-    using namespace newton_detail;
-    std::optional<NewtonOut> fast = ellipsoid_finish(ints, f, r, eps, Wt, lam, k, normal, t);
-    if (fast) return std::move(*fast);
-    return {false, t, INF, 0.0, 0, 0, 0, Array(), Array(), Array(), Array()};
 }
 
 }  // namespace gf

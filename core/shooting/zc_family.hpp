@@ -33,6 +33,7 @@ constexpr double NEWTON_GAP = 0.1;
 constexpr double NEWTON_GAP_DEAR = 1e-2;
 constexpr Int NEWTON_STABLE = 2;
 constexpr double NEWTON_RETRY = 0.1;
+constexpr Int SUM_TRIES = 2;
 // the secant query (ZC-IE from a facet whose points' support directions are known: `zc_from`'s
 // `directions`): a secant point must keep at least SECANT_HOLD of the weight of t r in the next
 // facet, and its query's gap must be at most SECANT_GAIN times the last query's, else
@@ -389,6 +390,10 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
     Int changed = -1;
     bool fresh_only = false;
     const bool smooth = mode == WITH_SMOOTH_NEWTON && smooth_finish_applies(ints, floats, n);
+    // W_Linf's sum: every support point is a point of each contact's, no piece of one leaf; its
+    // finish reads the contacts' states off the normal alone, and waits only for the gap
+    const bool sum_set = smooth && ints[blocks(ints[0]).KIND] == SUM;
+    Int sum_failures = 0;
     double newton_gap = mode != WITH_NEWTON && !smooth ? -1.0
                         : n <= NEWTON_CHEAP                ? NEWTON_GAP
                                                            : NEWTON_GAP_DEAR;
@@ -413,7 +418,9 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
         it += fin.steps;
         calls += fin.calls;
         if (!fin.ok) {
-            newton_gap = pending * NEWTON_RETRY;
+            // W_Linf's sum: a try that failed twice is a load whose states the facets do not
+            // tell (a long tail of tries on a humanoid's feet); IE finishes alone
+            newton_gap = sum_set && ++sum_failures >= SUM_TRIES ? -1.0 : pending * NEWTON_RETRY;
             pending = 0.0;
         }
         return fin;
@@ -594,11 +601,13 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                 const double gap = h * ny - 1.0;
                 kz = keep(P, Wt, lam, n, Pz, Wz, lz, changed);
                 if (newton_gap > 0.0 && n > NEWTON_CHEAP)
-                    stable = (smooth ? on_facet_leaf(ints, Wt, n, wit)
-                                     : on_facet_piece(ints, Wt, n, wit))
+                    stable = (sum_set  ? true
+                              : smooth ? on_facet_leaf(ints, Wt, n, wit)
+                                       : on_facet_piece(ints, Wt, n, wit))
                                  ? stable + 1
                                  : 0;
-                if (gap <= newton_gap && (n <= NEWTON_CHEAP || stable >= NEWTON_STABLE * n)) {
+                if (gap <= newton_gap &&
+                    (n <= NEWTON_CHEAP || sum_set || stable >= NEWTON_STABLE * n)) {
                     // IE's cutting planes have found the exit face's pieces: Newton on them
                     // (newton.hpp), with the new support point as a candidate piece, tried when
                     // this step is done: its simplex, Pz[:n] and P[n], stays as it is until then

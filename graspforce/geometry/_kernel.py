@@ -8,7 +8,8 @@ point are flagged in the witness vector, and the support point is built up from 
 only. Every algorithm is compiled once against this kernel, whatever the shape. Some program shapes
 take loops of their own instead of the passes (their `plan`): the contacts' wrench sets, shot at on
 every min_force call (hulls of ellipsoids in R^6, bare or lifted, or their affine image in the span
-of a rank-deficient grasp), and sums of posed 3-D bodies, growth distance's Delta.
+of a rank-deficient grasp, and W_Linf's sum of hulls of the origin and an ellipsoid), and sums of
+posed 3-D bodies, growth distance's Delta.
 
 A program is two arrays, `ints` and `floats`, so that a call from Python unboxes two arrays, not
 twelve. `ints` = [nn, kind, dim, pstart, cstart, ccount, wstart, dstart, ostart, choice,
@@ -25,15 +26,18 @@ active, children, plan] (each block nn long but `children` and the one entry `pl
     choice[i], active[i]   work arrays: a hull's best child (an origin embedding's child, or -1
                  for its origin), whether node i produced the point
     plan         how `support` evaluates the program (GENERAL, ELLIPSOID_HULL, ELLIPSE_HULL,
-                 PROJECTED_ELLIPSOID_HULL, PROJECTED_ELLIPSE_HULL or POSED_SUM below, decided
-                 by `plan_of` when the set compiles)
+                 PROJECTED_ELLIPSOID_HULL, PROJECTED_ELLIPSE_HULL, ORIGIN_ELLIPSOID_SUM,
+                 ORIGIN_ELLIPSE_SUM or POSED_SUM below, decided by `plan_of` when the set
+                 compiles)
 """
 from .._core import (AFFINE, BOX, CONE_CAP, ELLIPSE_HULL, ELLIPSOID, ELLIPSOID_HULL, EMBED,
-                    GENERAL, HULL, ORIGIN_EMBED, POLYTOPE, POSED_SUM, PROJECTED_ELLIPSE_HULL,
-                    PROJECTED_ELLIPSOID_HULL, SUM, TRUNCATED_CONE, support)
+                    GENERAL, HULL, ORIGIN_ELLIPSE_SUM, ORIGIN_ELLIPSOID_SUM, ORIGIN_EMBED,
+                    POLYTOPE, POSED_SUM, PROJECTED_ELLIPSE_HULL, PROJECTED_ELLIPSOID_HULL, SUM,
+                    TRUNCATED_CONE, support)
 
 __all__ = ["AFFINE", "BOX", "CONE_CAP", "ELLIPSE_HULL", "ELLIPSOID", "ELLIPSOID_HULL", "EMBED",
-           "GENERAL", "HULL", "ORIGIN_EMBED", "POLYTOPE", "POSED_SUM", "PROJECTED_ELLIPSE_HULL",
+           "GENERAL", "HULL", "ORIGIN_ELLIPSE_SUM", "ORIGIN_ELLIPSOID_SUM", "ORIGIN_EMBED",
+           "POLYTOPE", "POSED_SUM", "PROJECTED_ELLIPSE_HULL",
            "PROJECTED_ELLIPSOID_HULL", "SUM", "TRUNCATED_CONE", "BLOCKS", "children",
            "param_start", "params_size", "plan_of", "support"]
 
@@ -60,6 +64,8 @@ def params_size(ints):
 def plan_of(kind, dim, params, child_lists):
     """The plan of a program (module docstring) from its nodes' kinds, dimensions, parameter
     arrays and children (Python side, when the set compiles)."""
+    if kind[0] == SUM and dim[0] == 6:
+        return _origin_sum_plan(kind, dim, params, child_lists)
     if kind[0] == SUM and dim[0] == 3:
         for c in child_lists[0]:
             leaf = child_lists[c][0] if kind[c] == AFFINE else c
@@ -72,6 +78,23 @@ def plan_of(kind, dim, params, child_lists):
                 ELLIPSE_HULL: PROJECTED_ELLIPSE_HULL}.get(
                     _hull_plan(kind, dim, params, child_lists, child_lists[0][0]), GENERAL)
     return _hull_plan(kind, dim, params, child_lists, 0)
+
+
+def _origin_sum_plan(kind, dim, params, child_lists):
+    """ORIGIN_ELLIPSOID_SUM or ORIGIN_ELLIPSE_SUM when the root sums hulls of the origin (a
+    polytope of one vertex at 0, first) and an ellipsoid in R^6 with 3 or 2 axes each (W_Linf);
+    else GENERAL."""
+    axes = set()
+    for c in child_lists[0]:
+        if kind[c] != HULL or len(child_lists[c]) != 2:
+            return GENERAL
+        origin, leaf = child_lists[c]
+        if (kind[origin] != POLYTOPE or params[origin][0] != 1 or any(params[origin][2:])
+                or kind[leaf] != ELLIPSOID or dim[leaf] != 6):
+            return GENERAL
+        axes.add(params[leaf][1])          # an ellipsoid's parameters start [n, k]
+    return {frozenset({3}): ORIGIN_ELLIPSOID_SUM, frozenset({2}): ORIGIN_ELLIPSE_SUM}.get(
+        frozenset(axes), GENERAL)
 
 
 def _hull_plan(kind, dim, params, child_lists, root):
