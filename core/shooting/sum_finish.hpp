@@ -413,7 +413,32 @@ inline void sum_least_norm(Vec f, SumContact* cs, Int m, const double* u, double
     if (!to_plane()) return;
     // where that x leaves a share's bounds (a kink's 0 <= lam <= 1, a flat's ||v|| <= 1, a
     // kflat's ||w|| <= a <= 1), alternate projections onto the bounds and onto C x = rhs: the
-    // solutions form a line or more, and one inside the bounds is the answer's
+    // solutions form a line or more, and one inside the bounds is the answer's. The projection
+    // onto C x = rhs is x - Q^T Q (x - x0), Q an orthonormal basis of C's rows (Gram-Schmidt)
+    double Q[n * FAST_K], x0[FAST_K];
+    double big = 0.0;
+    for (Int a = 0; a < n; ++a) {
+        double cc = 0.0;
+        for (Int j = 0; j < E; ++j) cc += C[a * FAST_K + j] * C[a * FAST_K + j];
+        big = std::max(big, cc);
+    }
+    Int rank = 0;
+    for (Int a = 0; a < n; ++a) {
+        double* q = Q + rank * FAST_K;
+        for (Int j = 0; j < E; ++j) q[j] = C[a * FAST_K + j];
+        for (Int p = 0; p < rank; ++p) {
+            double d = 0.0;
+            for (Int j = 0; j < E; ++j) d += Q[p * FAST_K + j] * q[j];
+            for (Int j = 0; j < E; ++j) q[j] -= d * Q[p * FAST_K + j];
+        }
+        double qq = 0.0;
+        for (Int j = 0; j < E; ++j) qq += q[j] * q[j];
+        if (!(qq > 1e-20 * big)) continue;
+        const double inv = 1.0 / std::sqrt(qq);
+        for (Int j = 0; j < E; ++j) q[j] *= inv;
+        rank += 1;
+    }
+    for (Int j = 0; j < E; ++j) x0[j] = x[j];
     for (Int round = 0; round < FEASIBLE_ROUNDS; ++round) {
         bool inside = true;
         Int j = 0;
@@ -448,7 +473,11 @@ inline void sum_least_norm(Vec f, SumContact* cs, Int m, const double* u, double
             }
         }
         if (inside) break;
-        if (!to_plane()) return;
+        for (Int p = 0; p < rank; ++p) {
+            double d = 0.0;
+            for (Int j = 0; j < E; ++j) d += Q[p * FAST_K + j] * (x[j] - x0[j]);
+            for (Int j = 0; j < E; ++j) x[j] -= d * Q[p * FAST_K + j];
+        }
     }
     Int j = 0;
     for (Int i = 0; i < m; ++i) {
