@@ -41,8 +41,11 @@ constexpr Int SUM_STEPS = 20;
 constexpr Int SETTLE = 2;
 // a share whose friction saturates moves u off its flat by this fraction of ||u||
 constexpr double LEAVE = 1e-2;
-// alternating projections that look for the shares' unknowns within their bounds
-constexpr Int FEASIBLE_ROUNDS = 50;
+// alternating projections that look for the shares' unknowns within their bounds (those that
+// have found none by then mostly never do: the states are wrong)
+constexpr Int FEASIBLE_ROUNDS = 8;
+// the states' unknowns' proximal weight in the Newton system, relative to its scale (below)
+constexpr double PROXIMAL = 1e-10;
 
 enum SumState : int { OFF, ON, KINK, FLAT, KFLAT };
 
@@ -617,6 +620,13 @@ inline std::optional<NewtonOut> sum_finish(IVec ints, Vec f, Vec r, double eps, 
             ur += u[a] * r[a];
         }
         rhs[row] = 1.0 - ur;
+        // the states' unknowns move along C's null space (two fingers squeezing) at a cost
+        // PROXIMAL of the system's scale: -delta on their equations' diagonal keeps the system
+        // regular, and vanishes with the steps (a converged step solves the exact equations)
+        double big = 0.0;
+        for (Int a = 0; a < n; ++a)
+            for (Int j = 7; j < N; ++j) big = std::max(big, std::abs(K[a * FAST_K + j]));
+        for (Int q = 0; q + 7 < N; ++q) K[(6 + q) * FAST_K + 7 + q] = -PROXIMAL * big * big;
         const KktStep step = kkt_step(kw, N, u, n, false);
         if (!step.ok) return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
         basic = step.basic;
