@@ -110,12 +110,11 @@ LIFTED_METHODS = ("ie", "zc-ie", "zc-ie-paper")
 # 1.02, 1.28 before); zc-ie's smooth finish takes the lift up to 8 (a humanoid's foot corners:
 # 74 -> 32 iterations, 50.9 -> 41.8 us, docs/design.md)
 LIFT_MAX_CONTACTS = 8
-# zc-ie shoots W_Linf itself from five soft fingers, with the Newton finish on the contacts'
-# states (core/shooting/sum_finish.hpp): the lift in R^10 and up has no start table, and its IE
-# steps cost (m + 5)^2 (five soft fingers around a sphere: 21.8 -> 13.8 us). Below, the lift's
-# start tables win where two soft fingers squeeze (the ingot: 10.5 -> 15.4 us on the sum); point
-# contacts keep the lift too (a humanoid's 8 foot corners: median 34.5 -> 29.0 us but p90 53 ->
-# 100, the loads whose flat corners the finish does not resolve; docs/design.md)
+# zc-ie shoots W_Linf itself from five contacts with friction, with the Newton finish on the
+# contacts' states (core/shooting/sum_finish.hpp): the lift in R^10 and up has no start table,
+# and its IE steps cost (m + 5)^2 (five soft fingers around a sphere: 21.8 -> 13.8 us; a
+# humanoid's 8 foot corners: median 33.7 -> 26.2, p90 47 -> 51). Below, the lift's start tables
+# win where two soft fingers squeeze (the ingot: 10.3 -> 12.6 us on the sum; docs/design.md)
 SUM_FINISH_CONTACTS = 5
 # singular values of the contacts' maps below this fraction of the largest count as zero: an exact
 # deficiency leaves ~1e-16 (the rounding of G_i); where the dropped part spoils an answer, its
@@ -498,10 +497,10 @@ class WrenchSpace:
 
     def _sum_finish(self, method):
         """Whether min_force with `method` shoots W_Linf itself, not its lift: zc-ie on
-        SUM_FINISH_CONTACTS soft fingers or more, of the normal magnitude (the sum of
-        CH({0} U E_i) whose Newton finish core/shooting/sum_finish.hpp takes)."""
+        SUM_FINISH_CONTACTS contacts or more, all with friction, of the normal magnitude (the
+        sum of CH({0} U E_i) whose Newton finish core/shooting/sum_finish.hpp takes)."""
         return (method == "zc-ie" and len(self._contacts) >= SUM_FINISH_CONTACTS
-                and self.magnitude == "normal" and min(contact_kinds(self._contacts)) == 2)
+                and self.magnitude == "normal" and min(contact_kinds(self._contacts)) > 0)
 
     @property
     def span(self):
