@@ -19,9 +19,9 @@ where z = t r is the farthest point of W on the ray R(r), r = -w_ext. The litera
 eq. (14), CH(W_1 + ... + W_m), makes every contact push with the same magnitude and is the minimum
 only for symmetric grasps such as the paper's sphere.
 
-min_force with IE or ZC-IE on up to LIFT_MAX_CONTACTS contacts does not shoot at the sum itself
-but at its lift, one dimension per contact up (the Cayley embedding of the summands
-A_i = CH({0} U W_i)):
+min_force with IE or ZC-IE on up to LIFT_MAX_CONTACTS contacts (ZC-IE: up to
+SUM_FINISH_CONTACTS - 1 of them, below) does not shoot at the sum itself but at its lift, one
+dimension per contact up (the Cayley embedding of the summands A_i = CH({0} U W_i)):
 
     C = CH( {e_1} x A_1  U ... U  {e_m} x A_m ) - (c, 0),   c = (1/m, ..., 1/m),
 
