@@ -8,7 +8,8 @@
 //
 // Ray shooting is t* = min { h_W(u) : u^T r = 1 } with h_W(u) = sum_i max(0, h_i(u)),
 // h_i(u) = c_i^T u + ||S_i^T u|| (E_i = {c_i + S_i x : ||x|| <= 1}). At the answer each contact is
-// in one of five states, read off the facet's normal u, and its share p_i of t r = sum_i p_i is
+// in one of five states, read off IE's last facet (`sum_states`), and its share p_i of
+// t r = sum_i p_i is
 //
 //     off    h_i(u) < 0                  p_i = 0
 //     on     h_i(u) > 0                  p_i = z_i(u) = c_i + S_i x_i(u), x_i = S_i^T u / ||S_i^T u||
@@ -21,7 +22,8 @@
 // kflat) unknowns, with the curvatures (S S^T - (S x)(S x)^T) / ||S^T u|| of the smooth shares.
 // When a step has converged, a state whose unknowns left their bounds, or whose support has the
 // wrong sign at u, changes (kink -> on or off, flat -> on, on -> kink, off -> kink, ...) and
-// Newton goes on.
+// Newton goes on. Where the system is singular (fingers squeezing), a proximal term keeps it
+// regular and the unknowns are moved within their bounds (`sum_least_norm`).
 //
 // The answer is certified as the other finishes' (newton.hpp): the shares are written as a convex
 // combination of at most six points of W (each contact's share split into the origin and points

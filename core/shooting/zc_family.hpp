@@ -33,6 +33,7 @@ constexpr double NEWTON_GAP = 0.1;
 constexpr double NEWTON_GAP_DEAR = 1e-2;
 constexpr Int NEWTON_STABLE = 2;
 constexpr double NEWTON_RETRY = 0.1;
+// W_Linf's sum (sum_finish.hpp): tries before IE goes on alone
 constexpr Int SUM_TRIES = 2;
 // the secant query (ZC-IE from a facet whose points' support directions are known: `zc_from`'s
 // `directions`): a secant point must keep at least SECANT_HOLD of the weight of t r in the next
@@ -391,7 +392,7 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
     bool fresh_only = false;
     const bool smooth = mode == WITH_SMOOTH_NEWTON && smooth_finish_applies(ints, floats, n);
     // W_Linf's sum: every support point is a point of each contact's, no piece of one leaf; its
-    // finish reads the contacts' states off the normal alone, and waits only for the gap
+    // finish reads the contacts' states off the facet, and waits only for the gap
     const bool sum_set = smooth && ints[blocks(ints[0]).KIND] == SUM;
     Int sum_failures = 0;
     double newton_gap = mode != WITH_NEWTON && !smooth ? -1.0
