@@ -12,7 +12,8 @@
 // t r = sum_i p_i is
 //
 //     off    h_i(u) < 0                  p_i = 0
-//     on     h_i(u) > 0                  p_i = z_i(u) = c_i + S_i x_i(u), x_i = S_i^T u / ||S_i^T u||
+//     on     h_i(u) > 0                  p_i = z_i(u) = c_i + S_i x_i(u),
+//                                                x_i = S_i^T u / ||S_i^T u||
 //     kink   h_i(u) = 0                  p_i = lam_i z_i(u), 0 <= lam_i <= 1
 //     flat   S_i^T u = 0, c_i^T u > 0    p_i = c_i + S_i v_i, ||v_i|| <= 1 (friction not saturated)
 //     kflat  S_i^T u = 0, c_i^T u = 0    p_i = a_i c_i + S_i w_i, ||w_i|| <= a_i <= 1
@@ -94,22 +95,27 @@ inline Int sum_contacts(IVec ints, Vec f, SumContact* cs) {
         q.origin = origin;
         q.pp = ints[B.PSTART + leaf];
         q.k = static_cast<Int>(f[q.pp + 1]);
-        double cc = 0.0, ss = 0.0;
+        const double* S = f.d + q.pp + 8;
+        double cc = 0.0, ss = 0.0;   // ||c||^2, and ||S||_F^2 as the trace of S S^T
         for (Int a = 0; a < 6; ++a) {
             cc += f[q.pp + 2 + a] * f[q.pp + 2 + a];
-            for (Int b = 0; b < q.k; ++b) ss += f[q.pp + 8 + a * q.k + b] * f[q.pp + 8 + a * q.k + b];
-        }
-        q.snorm = std::sqrt(ss);
-        q.scale = std::sqrt(cc) + q.snorm;
-        const double* S = f.d + q.pp + 8;
-        for (Int a = 0; a < 6; ++a)
             for (Int a2 = a; a2 < 6; ++a2) {
                 double v = 0.0;
                 for (Int b = 0; b < q.k; ++b) v += S[a * q.k + b] * S[a2 * q.k + b];
                 q.SS[a * 6 + a2] = q.SS[a2 * 6 + a] = v;
             }
+            ss += q.SS[a * 6 + a];
+        }
+        q.snorm = std::sqrt(ss);
+        q.scale = std::sqrt(cc) + q.snorm;
     }
     return m;
+}
+
+// Contact q's leaf as newton.hpp's pieces name it (no embedding): ellipsoid_at gives its point
+// z(u), x and S x, its support and ||S^T u|| (0 at its kink)
+[[gnu::always_inline]] inline piece::SmoothLeaf smooth_of(const SumContact& q) {
+    return {q.leaf, q.pp, 0, -1};
 }
 
 // c^T u and y = S^T u (k) of contact q; returns ||y||
@@ -129,15 +135,15 @@ inline Int sum_contacts(IVec ints, Vec f, SumContact* cs) {
     return std::sqrt(rho2);
 }
 
-// p += g (c + S x) (x of q.k entries)
-[[gnu::always_inline]] inline void sum_add_point(Vec f, const SumContact& q, double g,
-                                                 const double* x, double* p) {
+// p += c + S x (x of q.k entries)
+[[gnu::always_inline]] inline void sum_add_point(Vec f, const SumContact& q, const double* x,
+                                                 double* p) {
     const double* c = f.d + q.pp + 2;
     const double* S = f.d + q.pp + 8;
     for (Int a = 0; a < 6; ++a) {
         double s = c[a];
         for (Int b = 0; b < q.k; ++b) s += S[a * q.k + b] * x[b];
-        p[a] += g * s;
+        p[a] += s;
     }
 }
 
@@ -230,7 +236,8 @@ inline bool sum_change(Vec f, SumContact* cs, Int m, double* u) {
     }
     if (worst < 0) return false;
     SumContact& q = cs[worst];
-    if (to == KINK) q.a = q.state == OFF ? 0.0 : q.state == ON ? 1.0 : std::min(std::max(q.a, 0.0), 1.0);
+    if (to == KINK)
+        q.a = q.state == OFF ? 0.0 : q.state == ON ? 1.0 : std::min(std::max(q.a, 0.0), 1.0);
     if (q.state == FLAT && to == KFLAT) q.a = 1.0;
     if (q.state == KFLAT && to == FLAT)
         for (Int b = 0; b < q.k; ++b) q.v[b] /= q.a;
@@ -327,9 +334,7 @@ inline Int sum_rows(IVec ints, Vec f, const SumContact* cs, Int m, const double*
             for (Int i = 0; i < m; ++i) {
                 const Share& s = sh[i];
                 if (s.point[at[i]]) {
-                    double p[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-                    sum_add_point(f, cs[i], 1.0, s.x[at[i]], p);
-                    for (Int a = 0; a < 6; ++a) S(rows, a) += p[a];
+                    sum_add_point(f, cs[i], s.x[at[i]], &S(rows, 0));
                     const Int w = ints[B.WSTART + cs[i].leaf];
                     WS(rows, w) = 1.0;
                     for (Int b = 0; b < cs[i].k; ++b) WS(rows, w + 1 + b) = s.x[at[i]][b];
@@ -370,11 +375,8 @@ inline void sum_least_norm(Vec f, SumContact* cs, Int m, const double* u, double
         const double* c = f.d + q.pp + 2;
         const double* S = f.d + q.pp + 8;
         if (q.state == ON || q.state == KINK) {
-            double cu, y[3], x[3];
-            const double rho = sum_dirs(f, q, u, cu, y);
-            for (Int bb = 0; bb < q.k; ++bb) x[bb] = y[bb] / rho;
-            double z[n] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-            sum_add_point(f, q, 1.0, x, z);
+            double z[n], x[3], sx[n];
+            ellipsoid_at<n>(f, smooth_of(q), u, n, z, x, sx);
             for (Int a = 0; a < n; ++a) {
                 if (q.state == ON) b[a] -= z[a];
                 else C[a * FAST_K + E] = z[a];
@@ -524,15 +526,12 @@ inline std::optional<NewtonOut> sum_finish(IVec ints, Vec f, Vec r, double eps, 
     bool basic = false;   // the last step was a basic solution: a singular system
     while (steps < SUM_STEPS) {
         // a smooth share at its kink (S^T u = 0) turns flat: its force inside its cone
-        double un0 = 0.0;
-        for (Int a = 0; a < n; ++a) un0 += u[a] * u[a];
-        un0 = std::sqrt(un0);
         bool turned = false;
         for (Int i = 0; i < m; ++i) {
             SumContact& q = cs[i];
             if (q.state != ON && q.state != KINK) continue;
-            double cu, y[3];
-            if (sum_dirs(f, q, u, cu, y) > piece_detail::KINK_TOL * q.snorm * un0) continue;
+            double z[n], x[3], sx[n];
+            if (ellipsoid_at<n>(f, smooth_of(q), u, n, z, x, sx).rho > 0.0) continue;
             for (Int b = 0; b < q.k; ++b) q.v[b] = 0.0;
             q.state = q.state == ON ? FLAT : KFLAT;
             turned = true;
@@ -559,20 +558,12 @@ inline std::optional<NewtonOut> sum_finish(IVec ints, Vec f, Vec r, double eps, 
             if (q.state == OFF) continue;
             const double* c = f.d + q.pp + 2;
             const double* S = f.d + q.pp + 8;
-            double cu, y[3];
-            const double rho = sum_dirs(f, q, u, cu, y);
             if (q.state == ON || q.state == KINK) {
                 double x[3], sx[n], z[n];
-                for (Int b = 0; b < q.k; ++b) x[b] = y[b] / rho;
-                for (Int a = 0; a < n; ++a) {
-                    double s = 0.0;
-                    for (Int b = 0; b < q.k; ++b) s += S[a * q.k + b] * x[b];
-                    sx[a] = s;
-                    z[a] = c[a] + s;
-                }
+                const EllipsePoint e = ellipsoid_at<n>(f, smooth_of(q), u, n, z, x, sx);
                 const double g = q.state == ON ? 1.0 : q.a;
                 for (Int a = 0; a < n; ++a) p[a] += g * z[a];
-                const double gr = g / rho;
+                const double gr = g / e.rho;
                 for (Int a = 0; a < n; ++a)
                     for (Int a2 = 0; a2 < n; ++a2)
                         K[a * FAST_K + a2] += gr * (q.SS[a * 6 + a2] - sx[a] * sx[a2]);
@@ -581,12 +572,14 @@ inline std::optional<NewtonOut> sum_finish(IVec ints, Vec f, Vec r, double eps, 
                         K[a * FAST_K + col] = z[a];
                         K[row * FAST_K + a] = z[a];
                     }
-                    rhs[row] = -(cu + rho);
+                    rhs[row] = -e.h;
                     col += 1;
                     row += 1;
                 }
                 continue;
             }
+            double cu, y[3];
+            sum_dirs(f, q, u, cu, y);
             // flat or kflat: p = a c + S v (a = 1 for flat), linear in its unknowns
             const bool kf = q.state == KFLAT;
             const double a0 = kf ? q.a : 1.0;

@@ -601,10 +601,9 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
                 for (Int j = 0; j < n; ++j) lam[j] = gam[j] * t;
                 const double gap = h * ny - 1.0;
                 kz = keep(P, Wt, lam, n, Pz, Wz, lz, changed);
-                if (newton_gap > 0.0 && n > NEWTON_CHEAP)
-                    stable = (sum_set  ? true
-                              : smooth ? on_facet_leaf(ints, Wt, n, wit)
-                                       : on_facet_piece(ints, Wt, n, wit))
+                if (newton_gap > 0.0 && n > NEWTON_CHEAP && !sum_set)
+                    stable = (smooth ? on_facet_leaf(ints, Wt, n, wit)
+                                     : on_facet_piece(ints, Wt, n, wit))
                                  ? stable + 1
                                  : 0;
                 if (gap <= newton_gap &&
