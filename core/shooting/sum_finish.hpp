@@ -147,6 +147,46 @@ inline Int sum_contacts(IVec ints, Vec f, SumContact* cs) {
     }
 }
 
+// Contact q's part of sum_i p_i at u. The columns along which its state's unknowns move it (a
+// kink's z(u) for lam; a kflat's c for a, then S for w; a flat's S for v) go to C[:, col:]
+// (rows FAST_K apart); what does not move with them (z(u) when on, c when flat) is added to
+// fixed; the column after its last is returned. A smooth share's z, S x and support
+// (ellipsoid_at) are left in z, sx and e. The state's equations are C_j^T u = 0 for its columns
+// j (h_i(u) = z(u)^T u, c^T u, S^T u).
+inline Int sum_columns(Vec f, const SumContact& q, const double* u, double* C, Int col,
+                       double* fixed, double* z, double* sx, EllipsePoint& e) {
+    if (q.state == OFF) return col;
+    const double* c = f.d + q.pp + 2;
+    const double* S = f.d + q.pp + 8;
+    if (q.state == ON || q.state == KINK) {
+        double x[3];
+        e = ellipsoid_at<6>(f, smooth_of(q), u, 6, z, x, sx);
+        for (Int a = 0; a < 6; ++a) {
+            if (q.state == ON) fixed[a] += z[a];
+            else C[a * FAST_K + col] = z[a];
+        }
+        return col + (q.state == KINK);
+    }
+    for (Int a = 0; a < 6; ++a) {
+        if (q.state == FLAT) fixed[a] += c[a];
+        else C[a * FAST_K + col] = c[a];
+    }
+    col += q.state == KFLAT;
+    for (Int b = 0; b < q.k; ++b, ++col)
+        for (Int a = 0; a < 6; ++a) C[a * FAST_K + col] = S[a * q.k + b];
+    return col;
+}
+
+// Contact q's unknowns in the order of its columns (a kink's or kflat's a, then a flat's or
+// kflat's v) as pointers into q; their count
+inline Int unknowns_of(SumContact& q, double** x) {
+    Int count = 0;
+    if (q.state == KINK || q.state == KFLAT) x[count++] = &q.a;
+    if (q.state == FLAT || q.state == KFLAT)
+        for (Int b = 0; b < q.k; ++b) x[count++] = &q.v[b];
+    return count;
+}
+
 // The state of each contact from the facet of IE's last step (its k points' witnesses Wt and
 // weights lam, t r = sum_j lam_j P_j): on where every point has the contact's ellipse point, off
 // where none has, a kink between, with lam_i the weight of the points that have it; flat (or
@@ -366,33 +406,16 @@ inline Int sum_rows(IVec ints, Vec f, const SumContact* cs, Int m, const double*
 inline void sum_least_norm(Vec f, SumContact* cs, Int m, const double* u, double t, Vec r) {
     constexpr Int n = 6;
     double C[n * FAST_K];
-    double b[n];
-    for (Int a = 0; a < n; ++a) b[a] = t * r[a];
+    double fixed[n] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     Int E = 0;
     for (Int i = 0; i < m; ++i) {
-        const SumContact& q = cs[i];
-        if (q.state == OFF) continue;
-        const double* c = f.d + q.pp + 2;
-        const double* S = f.d + q.pp + 8;
-        if (q.state == ON || q.state == KINK) {
-            double z[n], x[3], sx[n];
-            ellipsoid_at<n>(f, smooth_of(q), u, n, z, x, sx);
-            for (Int a = 0; a < n; ++a) {
-                if (q.state == ON) b[a] -= z[a];
-                else C[a * FAST_K + E] = z[a];
-            }
-            E += q.state == KINK;
-            continue;
-        }
-        for (Int a = 0; a < n; ++a) {
-            if (q.state == FLAT) b[a] -= c[a];
-            else C[a * FAST_K + E] = c[a];
-        }
-        E += q.state == KFLAT;
-        for (Int bb = 0; bb < q.k; ++bb, ++E)
-            for (Int a = 0; a < n; ++a) C[a * FAST_K + E] = S[a * q.k + bb];
+        double z[n], sx[n];
+        EllipsePoint e{0.0, 0.0};
+        E = sum_columns(f, cs[i], u, C, E, fixed, z, sx, e);
     }
     if (E == 0) return;
+    double b[n];
+    for (Int a = 0; a < n; ++a) b[a] = t * r[a] - fixed[a];
     double G[n * n], lu[n * n], y[n];
     Int prow[n], pcol[n];
     for (Int a = 0; a < n; ++a)
@@ -488,10 +511,9 @@ inline void sum_least_norm(Vec f, SumContact* cs, Int m, const double* u, double
     }
     Int j = 0;
     for (Int i = 0; i < m; ++i) {
-        SumContact& q = cs[i];
-        if (q.state == KINK || q.state == KFLAT) q.a = x[j++];
-        if (q.state == FLAT || q.state == KFLAT)
-            for (Int bb = 0; bb < q.k; ++bb) q.v[bb] = x[j++];
+        double* mine[4];
+        const Int count = unknowns_of(cs[i], mine);
+        for (Int jj = 0; jj < count; ++jj) *mine[jj] = x[j++];
     }
 }
 
@@ -552,61 +574,35 @@ inline std::optional<NewtonOut> sum_finish(IVec ints, Vec f, Vec r, double eps, 
         for (Int i = 0; i < N; ++i)
             for (Int j = 0; j < N; ++j) K[i * FAST_K + j] = 0.0;
         double p[n] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-        Int col = 7, row = 6;
+        // each contact's columns, its point (fixed + columns x its unknowns), a smooth share's
+        // curvature (S S^T - (S x)(S x)^T) / ||S^T u|| times its weight; each state's
+        // equations are its columns' transposes, C_j^T u = 0
+        Int col = 7;
         for (Int i = 0; i < m; ++i) {
-            const SumContact& q = cs[i];
-            if (q.state == OFF) continue;
-            const double* c = f.d + q.pp + 2;
-            const double* S = f.d + q.pp + 8;
-            if (q.state == ON || q.state == KINK) {
-                double x[3], sx[n], z[n];
-                const EllipsePoint e = ellipsoid_at<n>(f, smooth_of(q), u, n, z, x, sx);
-                const double g = q.state == ON ? 1.0 : q.a;
-                for (Int a = 0; a < n; ++a) p[a] += g * z[a];
-                const double gr = g / e.rho;
-                for (Int a = 0; a < n; ++a)
-                    for (Int a2 = 0; a2 < n; ++a2)
-                        K[a * FAST_K + a2] += gr * (q.SS[a * 6 + a2] - sx[a] * sx[a2]);
-                if (q.state == KINK) {
-                    for (Int a = 0; a < n; ++a) {
-                        K[a * FAST_K + col] = z[a];
-                        K[row * FAST_K + a] = z[a];
-                    }
-                    rhs[row] = -e.h;
-                    col += 1;
-                    row += 1;
-                }
-                continue;
-            }
-            double cu, y[3];
-            sum_dirs(f, q, u, cu, y);
-            // flat or kflat: p = a c + S v (a = 1 for flat), linear in its unknowns
-            const bool kf = q.state == KFLAT;
-            const double a0 = kf ? q.a : 1.0;
-            for (Int a = 0; a < n; ++a) {
-                double s = a0 * c[a];
-                for (Int b = 0; b < q.k; ++b) s += S[a * q.k + b] * q.v[b];
-                p[a] += s;
-            }
-            if (kf) {
-                for (Int a = 0; a < n; ++a) {
-                    K[a * FAST_K + col] = c[a];
-                    K[row * FAST_K + a] = c[a];
-                }
-                rhs[row] = -cu;
-                col += 1;
-                row += 1;
-            }
-            for (Int b = 0; b < q.k; ++b) {
-                for (Int a = 0; a < n; ++a) {
-                    K[a * FAST_K + col] = S[a * q.k + b];
-                    K[row * FAST_K + a] = S[a * q.k + b];
-                }
-                rhs[row] = -y[b];
-                col += 1;
-                row += 1;
-            }
+            SumContact& q = cs[i];
+            double z[n], sx[n];
+            EllipsePoint e{0.0, 0.0};
+            const Int first = col;
+            col = sum_columns(f, q, u, K, col, p, z, sx, e);
+            double* mine[4];
+            const Int count = unknowns_of(q, mine);
+            for (Int j = 0; j < count; ++j)
+                for (Int a = 0; a < n; ++a) p[a] += K[a * FAST_K + first + j] * *mine[j];
+            if (q.state != ON && q.state != KINK) continue;
+            const double gr = (q.state == ON ? 1.0 : q.a) / e.rho;
+            for (Int a = 0; a < n; ++a)
+                for (Int a2 = 0; a2 < n; ++a2)
+                    K[a * FAST_K + a2] += gr * (q.SS[a * 6 + a2] - sx[a] * sx[a2]);
         }
+        for (Int j = 7; j < N; ++j) {
+            double s = 0.0;
+            for (Int a = 0; a < n; ++a) {
+                K[(j - 1) * FAST_K + a] = K[a * FAST_K + j];
+                s += K[a * FAST_K + j] * u[a];
+            }
+            rhs[j - 1] = -s;
+        }
+        const Int row = N - 1;
         double ur = 0.0;
         for (Int a = 0; a < n; ++a) {
             K[a * FAST_K + 6] = -r[a];
@@ -630,10 +626,9 @@ inline std::optional<NewtonOut> sum_finish(IVec ints, Vec f, Vec r, double eps, 
         t += dx[6];
         col = 7;
         for (Int i = 0; i < m; ++i) {
-            SumContact& q = cs[i];
-            if (q.state == KINK || q.state == KFLAT) q.a += dx[col++];
-            if (q.state == FLAT || q.state == KFLAT)
-                for (Int b = 0; b < q.k; ++b) q.v[b] += dx[col++];
+            double* mine[4];
+            const Int count = unknowns_of(cs[i], mine);
+            for (Int j = 0; j < count; ++j) *mine[j] += dx[col++];
         }
         // the first steps from new states may grow before they shrink quadratically
         if (!std::isfinite(t) || (++fresh > SETTLE && du > DIVERGED * last_du))
