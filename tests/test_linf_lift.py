@@ -85,21 +85,28 @@ def test_which_methods_and_grasps_shoot_the_lift():
     eight = gf.Grasp(list(six.contacts) + list(four.contacts[2:4]))
     nine = gf.Grasp(list(eight.contacts) + [four.contacts[0]])
     for method in gf.METHODS:
-        lifted = method in LIFTED_METHODS
-        # zc-ie shoots W_Linf itself from SUM_FINISH_CONTACTS (5) contacts, with its finish
-        many = lifted and method != "zc-ie"
+        # zc-ie shoots W_Linf itself where every contact has friction, with its finish
+        lifted = method in LIFTED_METHODS and method != "zc-ie"
         assert four._space("Linf", "normal").target(method).set.dim == (9 if lifted else 6)
-        assert six._space("Linf", "normal").target(method).set.dim == (11 if many else 6)
-        assert eight._space("Linf", "normal").target(method).set.dim == (13 if many else 6)
+        assert six._space("Linf", "normal").target(method).set.dim == (11 if lifted else 6)
+        assert eight._space("Linf", "normal").target(method).set.dim == (13 if lifted else 6)
         assert four._space("L1", "normal").target(method).set.dim == 6
         assert nine._space("Linf", "normal").target(method).set.dim == 6
-    # point contacts too; a frictionless contact, or the full magnitude, keeps the lift
+    # point contacts and two soft fingers too; a frictionless contact, the full magnitude, or
+    # a grasp shot in its wrenches' span keeps the lift
     points = gf.Grasp([gf.Contact(c.position, c.normal, c.mu) for c in six.contacts])
     assert points._space("Linf", "normal").target("zc-ie").set.dim == 6
+    two = gf.Grasp([gf.Contact([0.05, 0.0, 0.0], [-1.0, 0.0, 0.0], 0.5, 0.01),
+                    gf.Contact([-0.05, 0.0, 0.0], [1.0, 0.0, 0.0], 0.5, 0.01)])
+    assert two._space("Linf", "normal").span is None          # soft: spin spans the sixth
+    assert two._space("Linf", "normal").target("zc-ie").set.dim == 6
     c = six.contacts[0]
     frictionless = gf.Grasp([gf.Contact(c.position, c.normal, 0.0)] + list(six.contacts[1:]))
     assert frictionless._space("Linf", "normal").target("zc-ie").set.dim == 11
     assert six._space("Linf", "full").target("zc-ie").set.dim == 11
+    pinch = gf.Grasp([gf.Contact(c.position, c.normal, c.mu) for c in four.contacts[:2]])
+    assert pinch._space("Linf", "normal").span.shape == (5, 6)
+    assert pinch._space("Linf", "normal").target("zc-ie").set.dim == 5 + 1
 
 
 def test_lift_halves_ie_steps_on_the_ingot():

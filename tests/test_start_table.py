@@ -94,11 +94,12 @@ def test_table_for_rays_in_a_subspace(n):
 
 
 def test_rays_through_a_split_facet_start_warm():
-    # a box's support points in three bases' directions are its 8 corners: CH(P_0) is the box,
-    # each square face split by Qhull into two triangles on one plane; the lookup's best
+    # a box's support points in the directions of its corners are its 8 corners: CH(P_0) is the
+    # box, each square face split by Qhull into two triangles on one plane; the lookup's best
     # y_f^T r ties between them, and it must take the one holding the ray
     A = gf.Box([1.0, 2.0, 0.5])
-    A._start_table, _ = ST._table(A, ST._directions(3, 3, 3), 3)
+    corners = np.array(np.meshgrid(*[[-1.0, 1.0]] * 3)).reshape(3, -1).T
+    A._start_table, _ = ST._table(A, [A._support(u) for u in corners], 3)
     points, _ = _table_parts(A._start_table)
     normals = np.round(ConvexHull(points, qhull_options="QJ").equations[:, :3], 6)
     assert len(np.unique(normals, axis=0)) < len(normals)        # some facets are split
@@ -111,11 +112,30 @@ def test_rays_through_a_split_facet_start_warm():
         assert lam.min() >= 0.0 and np.allclose(lam @ P, t * r, atol=1e-12)
 
 
+def test_points_join_toward_an_origin_outside_the_first_polytope():
+    # the ingot's W_Linf holds the origin (a force-closure grasp), but CH(P_0) of one basis
+    # does not: P_0 takes support points toward it, not a second basis (590 facets against ~100)
+    from benchmarks.grasp_sets import ingot_grasp
+    A = ingot_grasp()._space("Linf", "normal").target("zc-ie").set
+    assert A.dim == 6
+    _, toward = ST._table(A, [A._support(u) for u in ST._directions(6, 6)], 6)
+    assert toward is not None
+    table = ST.build_start_table(A)
+    points, witnesses = _table_parts(table)
+    assert 12 < len(points) <= 12 + ST.MAX_ADDED
+    for p, w in zip(points, witnesses):
+        assert np.allclose(A.witness_point(A.decode_witness(w)), p, atol=1e-12)
+    # the origin strictly inside CH(P_0), every facet kept
+    hull = ConvexHull(points, qhull_options="QJ")
+    assert hull.equations[:, -1].max() < 0.0
+    assert int(table[0]) == len(hull.simplices) <= 150
+
+
 def test_lift_table_serves_the_benchmark_wrenches():
     # W_Linf's lift on the ingot: its table keeps the facets that wrench-like rays leave through
     # (rays drawn spread like P_0, not isotropic: those missed 15% of these wrenches)
     from benchmarks.grasp_sets import ingot_grasp, random_wrenches as ingot_wrenches
-    C = ingot_grasp()._space("Linf", "normal").target("zc-ie").set
+    C = ingot_grasp()._space("Linf", "normal").target("ie").set
     C._start_table = ST.build_start_table(C, 6)
     points, _ = _table_parts(C._start_table)
     warm = 0

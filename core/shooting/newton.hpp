@@ -258,7 +258,9 @@ inline bool small_solve(const double* K, double* lu, const double* b, double* x,
     return true;
 }
 
-// small_solve for the sizes of W_L1 in R^6 (n + m = 7..12 unknowns for m = 1..6 pieces)
+// small_solve for the sizes of systems on sets in R^6: W_L1's n + m = 7..12 unknowns (m = 1..6
+// pieces), W_Linf's sum's 7 and its contacts' states' (sum_finish.hpp: 8..16 on 4 or 5 soft
+// fingers)
 inline bool small_solve_r6(const double* K, double* lu, const double* b, double* x, Int N) {
     switch (N) {
         case 7: return small_solve<7>(K, lu, b, x, N);
@@ -267,6 +269,10 @@ inline bool small_solve_r6(const double* K, double* lu, const double* b, double*
         case 10: return small_solve<10>(K, lu, b, x, N);
         case 11: return small_solve<11>(K, lu, b, x, N);
         case 12: return small_solve<12>(K, lu, b, x, N);
+        case 13: return small_solve<13>(K, lu, b, x, N);
+        case 14: return small_solve<14>(K, lu, b, x, N);
+        case 15: return small_solve<15>(K, lu, b, x, N);
+        case 16: return small_solve<16>(K, lu, b, x, N);
         default: return small_solve(K, lu, b, x, N);
     }
 }

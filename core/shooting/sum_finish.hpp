@@ -618,7 +618,7 @@ inline std::optional<NewtonOut> sum_finish(IVec ints, Vec f, Vec r, double eps, 
         for (Int a = 0; a < n; ++a)
             for (Int j = 7; j < N; ++j) big = std::max(big, std::abs(K[a * FAST_K + j]));
         for (Int q = 0; q + 7 < N; ++q) K[(6 + q) * FAST_K + 7 + q] = -PROXIMAL * big * big;
-        const KktStep step = kkt_step(kw, N, u, n, false);
+        const KktStep step = kkt_step(kw, N, u, n, true);
         if (!step.ok) return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
         basic = step.basic;
         steps += 1;

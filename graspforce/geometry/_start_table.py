@@ -42,7 +42,7 @@ MAX_DIM = 8
 MAX_HULL_DIM = 9      # rays in a subspace of dimension <= MAX_DIM: Qhull in up to R^9 (W_Linf's
                       # lift for 4 contacts: 16 points, ~530 facets, 2 ms)
 SLICE_RAYS = 16384    # random rays that pick the facets kept for rays in a subspace
-MAX_BASES = 3         # bases of directions tried for an inner polytope around the origin
+MAX_ADDED = 8         # support points added to P_0 toward an origin outside CH(P_0)
 HEADER = 5            # [facets F, n, witness size, parameters, points]
 CONVEX_TOL = 1e-6     # y_f^T p <= 1 + CONVEX_TOL for every point p: y_f supports CH(P_0)
 MAX_COND = 1e10       # condition number of a facet's vertex matrix kept in the table
@@ -69,23 +69,20 @@ def start_table(A, ray_dims=None):
     return A._start_table
 
 
-def _directions(n, bases, k):
-    """+-q_j for `bases` fixed orthonormal bases q in general position: the coordinate axes of a
+def _directions(n, k):
+    """+-q_j for a fixed orthonormal basis q in general position: the coordinate axes of a
     wrench space are special (two contacts' extreme forces along one axis coincide, and CH(P_0)
-    then has the origin on its boundary); seeded random rotations are not. With k < n, each q
-    rotates the last k coordinates and the first n - k apart: half of P_0 then spans the rays'
+    then has the origin on its boundary); a seeded random rotation is not. With k < n, q rotates
+    the last k coordinates and the first n - k apart: half of P_0 then spans the rays'
     subspace."""
     rng = np.random.default_rng(n)
-    out = []
-    for _ in range(bases):
-        if k == n:
-            q, _ = np.linalg.qr(rng.normal(size=(n, n)))
-        else:
-            q = np.zeros((n, n))
-            q[n - k:, n - k:] = np.linalg.qr(rng.normal(size=(k, k)))[0]
-            q[:n - k, :n - k] = np.linalg.qr(rng.normal(size=(n - k, n - k)))[0]
-        out += [q, -q]
-    return np.vstack(out)
+    if k == n:
+        q, _ = np.linalg.qr(rng.normal(size=(n, n)))
+    else:
+        q = np.zeros((n, n))
+        q[n - k:, n - k:] = np.linalg.qr(rng.normal(size=(k, k)))[0]
+        q[:n - k, :n - k] = np.linalg.qr(rng.normal(size=(n - k, n - k)))[0]
+    return np.vstack((q, -q))
 
 
 def _spread(points):
@@ -101,34 +98,43 @@ def _spread(points):
 def build_start_table(A, ray_dims=None):
     """The start table of A as one float array (layout in `table_start`), or NO_TABLE.
 
-    P_0 from one basis (2n directions) first; more bases only when the origin is not strictly
-    inside CH(P_0): more directions bring t_0 closer to t* but not IE's steps fewer (the ingot:
-    4n directions gave t_0 / t* = 0.86 against 0.33, the same median of 17 support calls, and
-    597 facets to look up against 87)."""
+    P_0 from one basis (2n directions) first. While the origin is outside CH(P_0), P_0 takes the
+    support point in the outer normal of the facet the origin lies farthest beyond, up to
+    MAX_ADDED of them: the ingot's W_Linf needed one, and CH(P_0) then has 104 facets where a
+    second basis gave 590 (more directions bring t_0 closer to t* but not IE's steps fewer: 4n
+    directions on the ingot's W_L1 gave t_0 / t* = 0.86 against 0.33, the same median of 17
+    support calls, and 597 facets to look up against 87). A support value h_A(u) <= 0 in that
+    normal u proves the origin is not inside A (a grasp that is not force-closure: feet on the
+    ground); the table is then the first CH(P_0)'s facets that rays crossing it leave through."""
     n = A.dim
     k = n if ray_dims is None else ray_dims
     if not 2 <= k <= MAX_DIM or n > (MAX_DIM if k == n else MAX_HULL_DIM):
         return NO_TABLE
-    partial = NO_TABLE
-    for bases in range(1, MAX_BASES + 1):
-        table, around_origin = _table(A, _directions(n, bases, k), k)
-        if around_origin:
+    rows = [A._support(u) for u in _directions(n, k)]
+    first = None
+    for added in range(MAX_ADDED + 1):
+        table, toward = _table(A, rows, k)
+        if first is None:
+            first = table
+        if toward is None:
             return table
-        if bases == 1:
-            partial = table
-    # the origin outside every CH(P_0) (a grasp that is not force-closure: feet on the ground):
-    # the first basis's facets that the rays crossing CH(P_0) leave through
-    return partial
+        if added == MAX_ADDED:
+            break
+        row = A._support(toward)
+        if toward @ row[1] <= CONVEX_TOL * max(np.linalg.norm(r[1]) for r in rows):
+            break
+        rows.append(row)
+    return first
 
 
-def _table(A, directions, k):
-    """(table, around_origin) of P_0 = the support points of A in `directions`; with k < n, the
-    table keeps only the facets that rays in the last k coordinates leave through. around_origin:
-    the origin is strictly inside CH(P_0). If not, the table keeps only the facets whose
+def _table(A, rows, k):
+    """(table, toward) of P_0 = the points of the support rows (value, point, witness) `rows`;
+    with k < n, the table keeps only the facets that rays in the last k coordinates leave
+    through. toward: None when the origin is strictly inside CH(P_0); else the unit outer normal
+    of the facet the origin lies farthest beyond, and the table keeps only the facets whose
     hyperplane y_f^T x = 1 supports CH(P_0) (the origin on its inner side), through one of which
     every ray that crosses CH(P_0) leaves it (the lookup's largest y_f^T r); other rays start
-    cold. NO_TABLE (and False) for a flat P_0 or no usable facet."""
-    rows = [A._support(u) for u in directions]
+    cold. NO_TABLE (and None) for a flat P_0 or no usable facet."""
     points, keep = np.unique(np.array([row[1] for row in rows]), axis=0, return_index=True)
     witnesses = np.array([rows[i][2] for i in keep])
     try:
@@ -136,23 +142,27 @@ def _table(A, directions, k):
         # may leave flat ones)
         faces = ConvexHull(points, qhull_options="QJ").simplices
     except QhullError:
-        return NO_TABLE, False     # P_0 spans less than R^n: a flat set
+        return NO_TABLE, None      # P_0 spans less than R^n: a flat set
     vertices = np.transpose(points[faces], (0, 2, 1))
     # facets whose vertices are nearly dependent (the origin near their hyperplane, or two
     # support points nearly equal) would give inaccurate weights: left out, their rays start cold
     faces = faces[np.linalg.cond(vertices) < MAX_COND]
     if len(faces) == 0:
-        return NO_TABLE, False
+        return NO_TABLE, None
     # gam = B_f r: B_f inverts the matrix whose columns are the facet's vertices
     inverse = np.linalg.inv(np.transpose(points[faces], (0, 2, 1)))
     normals = inverse.sum(axis=1)         # y_f = B_f^T 1
     supporting = (points @ normals.T).max(axis=0) <= 1.0 + CONVEX_TOL
-    # some y_f^T x = 1 does not support CH(P_0) with the origin inside: the origin is outside
-    # CH(P_0), and those facets face it
-    around_origin = bool(supporting.all())
-    if not around_origin:
+    toward = None
+    if not supporting.all():
+        # some y_f^T x = 1 does not support CH(P_0) with the origin inside: the origin is
+        # outside CH(P_0), beyond those facets, at 1 / ||y_f|| from their hyperplanes, whose
+        # outer normal is -y_f
+        facing = normals[~supporting]
+        y = facing[np.argmin(np.linalg.norm(facing, axis=1))]
+        toward = -y / np.linalg.norm(y)
         if not supporting.any():
-            return NO_TABLE, False
+            return NO_TABLE, toward
         faces, inverse, normals = faces[supporting], inverse[supporting], normals[supporting]
     n = A.dim
     if k < n:
@@ -170,4 +180,4 @@ def _table(A, directions, k):
     # normals by coordinate, (n, F): see table_start
     table = np.concatenate((header, floats[:npar], normals.T.ravel(), inverse.ravel(),
                             faces.ravel(), points.ravel(), witnesses.ravel())).astype(float)
-    return table, around_origin
+    return table, toward

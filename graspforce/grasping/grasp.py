@@ -133,8 +133,9 @@ class Grasp:
         R(r), r = -w_ext, found by `method` (any of gf.METHODS) to relative accuracy eps; the
         forces are read off the witnesses of Z_W(r). For Linf, IE and ZC-IE shoot the ray (0, r)
         at W_Linf's lift in R^(m + 5) (graspforce.grasping.wrench_space), where IE needs half the
-        steps; ZC-IE on five contacts or more shoots W_Linf itself, with a Newton finish on the
-        contacts' states (core/shooting/sum_finish.hpp). A grasp whose wrenches span only R^k,
+        steps; ZC-IE on contacts that all have friction (normal magnitude, wrenches spanning R^6)
+        shoots W_Linf itself, with a Newton finish on the contacts' states
+        (core/shooting/sum_finish.hpp). A grasp whose wrenches span only R^k,
         k < 6 (two point contacts), is shot in that span (the set Q^T W, the ray Q^T r); a load
         outside it, or a shot there that ends uncertified, at the full-dimensional set.
         """

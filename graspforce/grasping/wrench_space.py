@@ -19,9 +19,10 @@ where z = t r is the farthest point of W on the ray R(r), r = -w_ext. The litera
 eq. (14), CH(W_1 + ... + W_m), makes every contact push with the same magnitude and is the minimum
 only for symmetric grasps such as the paper's sphere.
 
-min_force with IE or ZC-IE on up to LIFT_MAX_CONTACTS contacts (ZC-IE: up to
-SUM_FINISH_CONTACTS - 1 of them, below) does not shoot at the sum itself but at its lift, one
-dimension per contact up (the Cayley embedding of the summands A_i = CH({0} U W_i)):
+min_force with IE or ZC-IE on up to LIFT_MAX_CONTACTS contacts (ZC-IE only where its finish on
+the sum does not apply: a frictionless contact, the full magnitude, a grasp shot in its span;
+`WrenchSpace._sum_finish`) does not shoot at the sum itself but at its lift, one dimension per
+contact up (the Cayley embedding of the summands A_i = CH({0} U W_i)):
 
     C = CH( {e_1} x A_1  U ... U  {e_m} x A_m ) - (c, 0),   c = (1/m, ..., 1/m),
 
@@ -107,15 +108,9 @@ LIFTED_METHODS = ("ie", "zc-ie", "zc-ie-paper")
 # ... and only for a few contacts: an IE step's algebra grows as (m + 5)^2 and the lift's IE steps
 # stop halving (grasps on a sphere, lift over sum per call: m = 2 0.71, 4 0.60, 6 0.84, 8 0.99
 # since the lift's contact sets are embeddings, benchmarks/results/linf_lift.md; 0.73, 0.71,
-# 1.02, 1.28 before); zc-ie's smooth finish takes the lift up to 8 (a humanoid's foot corners:
-# 74 -> 32 iterations, 50.9 -> 41.8 us, docs/design.md)
+# 1.02, 1.28 before); zc-ie's smooth finish takes the lift up to 8 where it lifts (a humanoid's
+# foot corners, before they took the sum: 74 -> 32 iterations, 50.9 -> 41.8 us, docs/design.md)
 LIFT_MAX_CONTACTS = 8
-# zc-ie shoots W_Linf itself from five contacts with friction, with the Newton finish on the
-# contacts' states (core/shooting/sum_finish.hpp): the lift in R^10 and up has no start table,
-# and its IE steps cost (m + 5)^2 (five soft fingers around a sphere: 21.8 -> 13.8 us; a
-# humanoid's 8 foot corners: median 33.7 -> 26.2, p90 47 -> 51). Below, the lift's start tables
-# win where two soft fingers squeeze (the ingot: 10.3 -> 12.6 us on the sum; docs/design.md)
-SUM_FINISH_CONTACTS = 5
 # singular values of the contacts' maps below this fraction of the largest count as zero: an exact
 # deficiency leaves ~1e-16 (the rounding of G_i); where the dropped part spoils an answer, its
 # certificate in R^6 fails and the full-dimensional set answers
@@ -496,11 +491,16 @@ class WrenchSpace:
         return target
 
     def _sum_finish(self, method):
-        """Whether min_force with `method` shoots W_Linf itself, not its lift: zc-ie on
-        SUM_FINISH_CONTACTS contacts or more, all with friction, of the normal magnitude (the
-        sum of CH({0} U E_i) whose Newton finish core/shooting/sum_finish.hpp takes)."""
-        return (method == "zc-ie" and len(self._contacts) >= SUM_FINISH_CONTACTS
-                and self.magnitude == "normal" and min(contact_kinds(self._contacts)) > 0)
+        """Whether min_force with `method` shoots W_Linf itself, not its lift: zc-ie on contacts
+        that all have friction, of the normal magnitude, whose wrenches span R^6: the sum of
+        CH({0} U E_i) in R^6 whose Newton finish core/shooting/sum_finish.hpp takes. The lift in
+        R^(m+5) has no start table from five contacts, and its IE steps cost (m + 5)^2; on the
+        sum, soft fingers around a sphere take 9.7 against 11.3 us (three), 11.3 against 14.2
+        (four), 12.8 against 21.9 (five), the ingot 11.2 against 10.3 (docs/design.md, "W_Linf's
+        sum"). A grasp shot in its wrenches' span (two point contacts: R^5) keeps the lift, as
+        the finish works in R^6."""
+        return (method == "zc-ie" and self.magnitude == "normal"
+                and min(contact_kinds(self._contacts)) > 0 and self.span is None)
 
     @property
     def span(self):
