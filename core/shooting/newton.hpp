@@ -213,47 +213,59 @@ constexpr Int FAST_N = 14;
 // m < n)
 constexpr Int FAST_K = 2 * FAST_N;
 
-// Solve K x = b (K (N, N) in FAST_K-strided rows, factored in lu) by LU with partial pivoting;
-// false when a pivot is below 1e-14 of K's largest entry (lu_factor's test).
-// Compiled for NN unknowns (the loops unroll), or for any when NN is 0.
+// Solve K x = b (K (N, N) in FAST_K-strided rows) by LU with partial pivoting; false when a pivot
+// is below 1e-14 of K's largest entry (lu_factor's test). Compiled for NN unknowns, with the
+// factors in a compact NN x NN array on the stack and every loop unrolled, or for any N when NN
+// is 0, factored in lu (FAST_K-strided).
 template <int NN = 0>
 inline bool small_solve(const double* K, double* lu, const double* b, double* x, Int N_) {
     const Int N = NN > 0 ? NN : N_;
+    constexpr Int LD = NN > 0 ? NN : FAST_K;
+    double compact[NN > 0 ? NN * NN : 1];
+    double* const a = NN > 0 ? compact : lu;
     double scale = 0.0;
+#pragma GCC unroll 16
     for (Int i = 0; i < N; ++i) {
         x[i] = b[i];
+#pragma GCC unroll 16
         for (Int j = 0; j < N; ++j) {
-            lu[i * FAST_K + j] = K[i * FAST_K + j];
+            a[i * LD + j] = K[i * FAST_K + j];
             scale = std::max(scale, std::abs(K[i * FAST_K + j]));
         }
     }
     if (scale == 0.0) return false;
+#pragma GCC unroll 16
     for (Int c = 0; c < N; ++c) {
         Int p = c;
-        double best = std::abs(lu[c * FAST_K + c]);
+        double best = std::abs(a[c * LD + c]);
+#pragma GCC unroll 16
         for (Int i = c + 1; i < N; ++i) {
-            if (std::abs(lu[i * FAST_K + c]) > best) {
-                best = std::abs(lu[i * FAST_K + c]);
+            if (std::abs(a[i * LD + c]) > best) {
+                best = std::abs(a[i * LD + c]);
                 p = i;
             }
         }
         if (best <= 1e-14 * scale) return false;
         if (p != c) {
-            for (Int j = c; j < N; ++j) std::swap(lu[c * FAST_K + j], lu[p * FAST_K + j]);
+            for (Int j = c; j < N; ++j) std::swap(a[c * LD + j], a[p * LD + j]);
             std::swap(x[c], x[p]);
         }
-        const double inv = 1.0 / lu[c * FAST_K + c];
+        const double inv = 1.0 / a[c * LD + c];
+#pragma GCC unroll 16
         for (Int i = c + 1; i < N; ++i) {
-            const double g = lu[i * FAST_K + c] * inv;
+            const double g = a[i * LD + c] * inv;
             if (g == 0.0) continue;
-            for (Int j = c + 1; j < N; ++j) lu[i * FAST_K + j] -= g * lu[c * FAST_K + j];
+#pragma GCC unroll 16
+            for (Int j = c + 1; j < N; ++j) a[i * LD + j] -= g * a[c * LD + j];
             x[i] -= g * x[c];
         }
     }
+#pragma GCC unroll 16
     for (Int i = N - 1; i >= 0; --i) {
         double s = x[i];
-        for (Int j = i + 1; j < N; ++j) s -= lu[i * FAST_K + j] * x[j];
-        x[i] = s / lu[i * FAST_K + i];
+#pragma GCC unroll 16
+        for (Int j = i + 1; j < N; ++j) s -= a[i * LD + j] * x[j];
+        x[i] = s / a[i * LD + i];
     }
     return true;
 }
@@ -485,6 +497,28 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
     double SX[FAST_N * FAST_N];   // their S x
     double hv[FAST_N];
     double rho[FAST_N];
+    // S S^T (nc x nc, upper triangle by rows) of the leaves met in this try, by leaf: the
+    // curvature's constant part, computed at a leaf's first step (recomputing it every step was
+    // a third of the finish's own instructions on point contacts)
+    constexpr Int SSN = FN > 0 ? FN : FAST_N;
+    double SS[SSN * SSN * FAST_N];
+    Int ss_leaf[FAST_N];
+    Int ss_count = 0;
+    auto leaf_ss = [&](Int l, Int nc, Int kk, Int s0) -> const double* {
+        for (Int q = 0; q < ss_count; ++q)
+            if (ss_leaf[q] == l) return SS + q * SSN * SSN;
+        // past FAST_N leaves in one try (pieces that drop and join), the last slot is remade
+        const Int q = ss_count < FAST_N ? ss_count++ : FAST_N - 1;
+        ss_leaf[q] = l;
+        double* const out = SS + q * SSN * SSN;
+        for (Int a = 0; a < nc; ++a)
+            for (Int a2 = a; a2 < nc; ++a2) {
+                double v = 0.0;
+                for (Int b = 0; b < kk; ++b) v += f[s0 + a * kk + b] * f[s0 + a2 * kk + b];
+                out[a * SSN + a2] = v;
+            }
+        return out;
+    };
     KktWork kw;
     double* const K = kw.K;
     double* const rhs = kw.rhs;
@@ -609,13 +643,10 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
             const Int s0 = pp + 2 + nc;
             const double g = lm[p] / rho[p];
             const double* sx = SX + p * FAST_N;
+            const double* ss = leaf_ss(leaf[p].leaf, nc, kk, s0);
             for (Int a = 0; a < nc; ++a) {
                 double* row = K + (lead + a) * FAST_K + lead;
-                for (Int a2 = a; a2 < nc; ++a2) {
-                    double v = -sx[a] * sx[a2];
-                    for (Int b = 0; b < kk; ++b) v += f[s0 + a * kk + b] * f[s0 + a2 * kk + b];
-                    row[a2] += g * v;
-                }
+                for (Int a2 = a; a2 < nc; ++a2) row[a2] += g * (ss[a * SSN + a2] - sx[a] * sx[a2]);
             }
         }
         for (Int a = 0; a < n; ++a)
