@@ -350,24 +350,32 @@ def _linf_iterations(cases, label):
 
 
 def test_default_zc_ie_on_the_lift():
-    """min_force Linf shoots at W_Linf's lift, a hull of embeddings {e_i} x CH({0} U W_i): where
-    the contacts that push hardest saturate friction (soft fingers around a sphere) the smooth
-    path finishes it; every answer certifies itself (test_certificates.check_optimal) and agrees
-    with the paper's ZC-IE within eps, in at most half its median iterations."""
+    """On W_Linf's lift, a hull of embeddings {e_i} x CH({0} U W_i) (which min_force's zc-ie
+    shoots only where the sum's finish does not apply; forced here), where the contacts that
+    push hardest saturate friction (soft fingers around a sphere), the smooth path finishes the
+    shot; every answer certifies itself (test_certificates.check_optimal) and agrees with the
+    paper's ZC-IE within eps, in at most half its median iterations."""
     from benchmarks.families import FAMILIES
     rng = np.random.default_rng(9)
-    iterations = _linf_iterations([FAMILIES[f"sphere-{m}"](rng, 12) for m in (3, 4)], "lift")
+    cases = [FAMILIES[f"sphere-{m}"](rng, 12) for m in (3, 4)]
+    for grasp, _ in cases:
+        space = grasp._space("Linf", "normal")
+        space._by_method[("zc-ie", False)] = space._target(True, space.length)
+        assert space.target("zc-ie").set.dim == 5 + len(grasp.contacts)
+    iterations = _linf_iterations(cases, "lift")
     assert np.median(iterations["zc-ie"]) <= 0.5 * np.median(iterations["zc-ie-paper"])
 
 
 def test_default_zc_ie_on_the_linf_sum():
-    """From five soft fingers min_force Linf shoots W_Linf itself, a sum of CH({0} U E_i), with
-    the Newton finish on the contacts' states (core/shooting/sum_finish.hpp: on, off, pushing
-    less than the most, with friction saturated or not): every answer certifies itself
+    """min_force Linf with zc-ie shoots W_Linf itself, a sum of CH({0} U E_i), with the Newton
+    finish on the contacts' states (core/shooting/sum_finish.hpp: on, off, pushing less than the
+    most, with friction saturated or not): on five soft fingers every answer certifies itself
     (test_certificates.check_optimal) and agrees with the paper's ZC-IE on the lift within eps,
     in at most half its median iterations. Ten point contacts around a sphere (past the lift's
     eight: the sum for every method) finish the same way, in at most half the iterations of the
-    paper's steps on the sum."""
+    paper's steps on the sum. A humanoid's eight foot corners, whose faces are degenerate (rows
+    of collinear corners, states read too flat that the finish demotes), within 0.75 of the
+    paper's median."""
     from benchmarks.families import FAMILIES
     rng = np.random.default_rng(13)
     soft = [FAMILIES["sphere-5"](rng, 12) for _ in range(2)]
@@ -378,10 +386,11 @@ def test_default_zc_ie_on_the_linf_sum():
         p = 0.05 * p / np.linalg.norm(p, axis=1)[:, None]
         points.append((gf.Grasp([gf.Contact(x, -x / 0.05, rng.uniform(0.4, 1.0)) for x in p]),
                        loads))
-    for label, cases in (("soft", soft), ("point", points)):
+    feet = [FAMILIES["feet"](rng, 12) for _ in range(2)]
+    for label, cases, most in (("soft", soft, 0.5), ("point", points, 0.5), ("feet", feet, 0.75)):
         iterations = _linf_iterations(cases, label)
         ratio = np.median(iterations["zc-ie"]) / np.median(iterations["zc-ie-paper"])
-        assert ratio <= 0.5, (label, ratio)
+        assert ratio <= most, (label, ratio)
 
 
 def test_default_zc_ie_on_the_full_magnitudes_l1_is_the_general_finish():

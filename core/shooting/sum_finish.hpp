@@ -21,7 +21,8 @@
 // Newton solves sum_i p_i = t r, u^T r = 1 and each state's equations on u (h_i = 0; S_i^T u = 0;
 // c_i^T u = 0 and S_i^T u = 0) in u, t and the states' unknowns: 7 + (1, k, k + 1 a kink, flat,
 // kflat) unknowns, with the curvatures (S S^T - (S x)(S x)^T) / ||S^T u|| of the smooth shares.
-// When a step has converged, a state whose unknowns left their bounds, or whose support has the
+// States read off a degenerate face whose equations no u solves are demoted first
+// (`states_hold`). When a step has converged, a state whose unknowns left their bounds, or whose support has the
 // wrong sign at u, changes (kink -> on or off, flat -> on, on -> kink, off -> kink, ...) and
 // Newton goes on. Where the system is singular (fingers squeezing), a proximal term keeps it
 // regular and the unknowns are moved within their bounds (`sum_least_norm`).
@@ -187,12 +188,61 @@ inline Int unknowns_of(SumContact& q, double** x) {
     return count;
 }
 
+// v (len) less its part in the span of the orthonormal rows Q[:rank] (ld apart); ||v||^2 after
+inline double less_span(const double* Q, Int rank, Int ld, Int len, double* v) {
+    for (Int q = 0; q < rank; ++q) {
+        double d = 0.0;
+        for (Int a = 0; a < len; ++a) d += Q[q * ld + a] * v[a];
+        for (Int a = 0; a < len; ++a) v[a] -= d * Q[q * ld + a];
+    }
+    double vv = 0.0;
+    for (Int a = 0; a < len; ++a) vv += v[a] * v[a];
+    return vv;
+}
+
+// A state's unknowns, and its equations on u: 1 a kink (lam), k flat (v), k + 1 a kflat (a, w)
+inline Int state_size(const SumContact& q) {
+    return q.state == KINK ? 1 : q.state == FLAT ? q.k : q.state == KFLAT ? q.k + 1 : 0;
+}
+
+// Whether some u has C^T u = 0 for the states' columns C (sum_columns) and u^T r = 1: r is not in
+// the span of C (Gram-Schmidt on C's columns, r's part outside it above 1e-8 of ||r||)
+inline bool states_hold(Vec f, const SumContact* cs, Int m, const double* u, Vec r) {
+    constexpr Int n = 6;
+    double C[n * FAST_K], fixed[n] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, z[n], sx[n];
+    Int E = 0;
+    for (Int i = 0; i < m; ++i) {
+        EllipsePoint e{0.0, 0.0};
+        E = sum_columns(f, cs[i], u, C, E, fixed, z, sx, e);
+    }
+    double Q[n * n];
+    Int rank = 0;
+    for (Int j = 0; j < E && rank < n; ++j) {
+        double v[n], v0 = 0.0;
+        for (Int a = 0; a < n; ++a) {
+            v[a] = C[a * FAST_K + j];
+            v0 += v[a] * v[a];
+        }
+        const double vv = less_span(Q, rank, n, n, v);
+        if (!(vv > 1e-20 * v0)) continue;
+        const double inv = 1.0 / std::sqrt(vv);
+        for (Int a = 0; a < n; ++a) Q[rank * n + a] = v[a] * inv;
+        rank += 1;
+    }
+    double w[n], rr = 0.0;
+    for (Int a = 0; a < n; ++a) {
+        w[a] = r[a];
+        rr += r[a] * r[a];
+    }
+    return less_span(Q, rank, n, n, w) > 1e-16 * rr;
+}
+
 // The state of each contact from the facet of IE's last step (its k points' witnesses Wt and
 // weights lam, t r = sum_j lam_j P_j): on where every point has the contact's ellipse point, off
 // where none has, a kink between, with lam_i the weight of the points that have it; flat (or
 // kflat) where ||S_i^T u|| <= FLAT_RHO ||S_i|| ||u|| or the weighted mean v_i of the points'
 // x_i lies inside (||v_i||^2 < FLAT_SPREAD: the points spread around E_i, newton.hpp's test).
-inline void sum_states(IVec ints, Vec f, SumContact* cs, Int m, const double* u, Mat Wt,
+inline void sum_states(IVec ints, Vec f, SumContact* cs, Int m, const double* u, Vec r, Mat Wt,
                        Vec lam, Int k) {
     const Blocks B = blocks(ints[0]);
     double uu = 0.0, total = 0.0;
@@ -229,6 +279,44 @@ inline void sum_states(IVec ints, Vec f, SumContact* cs, Int m, const double* u,
             if (flat && total > 0.0)
                 for (Int b = 0; b < q.k; ++b) q.v[b] = x[b] / total;   // w = a v
         }
+    }
+    // the states' equations C^T u = 0 (their columns, sum_columns) and u^T r = 1 have no
+    // solution when r lies in the span of C (a degenerate face read too flat: the feet's corners),
+    // which takes more than five of them; the flat state whose ||S_i^T u|| is largest gives up
+    // its flatness, then the kink nearest an end, until they have one. Squeezing fingers'
+    // dependent equations keep theirs.
+    auto equations = [&]() {
+        Int e = 0;
+        for (Int i = 0; i < m; ++i) e += state_size(cs[i]);
+        return e;
+    };
+    while (equations() > 5 && !states_hold(f, cs, m, u, r)) {
+        Int pick = -1;
+        double best = -1.0;
+        for (Int i = 0; i < m; ++i) {
+            SumContact& q = cs[i];
+            if (q.state != FLAT && q.state != KFLAT) continue;
+            double cu, y[3];
+            const double rel = sum_dirs(f, q, u, cu, y) / q.snorm;
+            if (rel > best) {
+                best = rel;
+                pick = i;
+            }
+        }
+        if (pick >= 0) {
+            cs[pick].state = cs[pick].state == FLAT ? ON : KINK;
+            continue;
+        }
+        for (Int i = 0; i < m; ++i) {
+            if (cs[i].state != KINK) continue;
+            const double end = std::abs(cs[i].a - 0.5);
+            if (end > best) {
+                best = end;
+                pick = i;
+            }
+        }
+        if (pick < 0) return;
+        cs[pick].state = cs[pick].a >= 0.5 ? ON : OFF;
     }
 }
 
@@ -456,13 +544,7 @@ inline void sum_least_norm(Vec f, SumContact* cs, Int m, const double* u, double
     for (Int a = 0; a < n; ++a) {
         double* q = Q + rank * FAST_K;
         for (Int j = 0; j < E; ++j) q[j] = C[a * FAST_K + j];
-        for (Int p = 0; p < rank; ++p) {
-            double d = 0.0;
-            for (Int j = 0; j < E; ++j) d += Q[p * FAST_K + j] * q[j];
-            for (Int j = 0; j < E; ++j) q[j] -= d * Q[p * FAST_K + j];
-        }
-        double qq = 0.0;
-        for (Int j = 0; j < E; ++j) qq += q[j] * q[j];
+        const double qq = less_span(Q, rank, FAST_K, E, q);
         if (!(qq > 1e-20 * big)) continue;
         const double inv = 1.0 / std::sqrt(qq);
         for (Int j = 0; j < E; ++j) q[j] *= inv;
@@ -530,7 +612,7 @@ inline std::optional<NewtonOut> sum_finish(IVec ints, Vec f, Vec r, double eps, 
     if (!(nr > 0.0)) return ellipsoid_failed(0.0, INF, 0.0, 0, 0, n, ws);
     double u[n];
     for (Int a = 0; a < n; ++a) u[a] = normal[a] / nr;
-    sum_states(ints, f, cs, m, u, Wt, lam, k);
+    sum_states(ints, f, cs, m, u, r, Wt, lam, k);
     double t = 0.0;
     for (Int i = 0; i < m; ++i) {
         double cu, y[3];
@@ -566,10 +648,7 @@ inline std::optional<NewtonOut> sum_finish(IVec ints, Vec f, Vec r, double eps, 
         // the system: rows 0..5 sum_i p_i = t r, then each state's equations, then u^T r = 1;
         // columns du (0..5), dt (6), then each state's unknowns
         Int N = 7;
-        for (Int i = 0; i < m; ++i) {
-            const SumContact& q = cs[i];
-            N += q.state == KINK ? 1 : q.state == FLAT ? q.k : q.state == KFLAT ? q.k + 1 : 0;
-        }
+        for (Int i = 0; i < m; ++i) N += state_size(cs[i]);
         if (N > FAST_K) return ellipsoid_failed(t, INF, 0.0, steps, calls, n, ws);
         for (Int i = 0; i < N; ++i)
             for (Int j = 0; j < N; ++j) K[i * FAST_K + j] = 0.0;
