@@ -420,7 +420,6 @@ inline double origin_ellipsoid_sum(IVec ints, Vec f, Vec u, Vec point, Vec wit) 
             wit[wo] = 1.0;
             wit[we] = 0.0;
             for (Int b = 0; b < K; ++b) wit[we + 1 + b] = y[b];
-            h += 0.0;
             continue;
         }
         wit[wo] = 0.0;

@@ -324,6 +324,17 @@ struct EllipsePoint {
     double h;
     double rho;
 };
+
+// The upper triangle of S S^T (n x n, rows ld apart) for S (n, k) by rows: a smooth piece's
+// curvature without its point's part
+inline void gram_upper(const double* S, Int n, Int k, double* out, Int ld) {
+    for (Int a = 0; a < n; ++a)
+        for (Int a2 = a; a2 < n; ++a2) {
+            double v = 0.0;
+            for (Int b = 0; b < k; ++b) v += S[a * k + b] * S[a2 * k + b];
+            out[a * ld + a2] = v;
+        }
+}
 template <int FN = 0, int FK = 0>
 [[gnu::always_inline]] inline EllipsePoint ellipsoid_at(Vec f, const piece::SmoothLeaf& e,
                                                         const double* u_, Int n_, double* z,
@@ -511,12 +522,7 @@ inline std::optional<NewtonOut> ellipsoid_finish_sized(IVec ints, Vec f, Vec r, 
         const Int q = ss_count < FAST_N ? ss_count++ : FAST_N - 1;
         ss_leaf[q] = l;
         double* const out = SS + q * SSN * SSN;
-        for (Int a = 0; a < nc; ++a)
-            for (Int a2 = a; a2 < nc; ++a2) {
-                double v = 0.0;
-                for (Int b = 0; b < kk; ++b) v += f[s0 + a * kk + b] * f[s0 + a2 * kk + b];
-                out[a * SSN + a2] = v;
-            }
+        gram_upper(f.d + s0, nc, kk, out, SSN);
         return out;
     };
     KktWork kw;

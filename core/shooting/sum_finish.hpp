@@ -97,14 +97,11 @@ inline Int sum_contacts(IVec ints, Vec f, SumContact* cs) {
         q.pp = ints[B.PSTART + leaf];
         q.k = static_cast<Int>(f[q.pp + 1]);
         const double* S = f.d + q.pp + 8;
+        gram_upper(S, 6, q.k, q.SS, 6);
         double cc = 0.0, ss = 0.0;   // ||c||^2, and ||S||_F^2 as the trace of S S^T
         for (Int a = 0; a < 6; ++a) {
             cc += f[q.pp + 2 + a] * f[q.pp + 2 + a];
-            for (Int a2 = a; a2 < 6; ++a2) {
-                double v = 0.0;
-                for (Int b = 0; b < q.k; ++b) v += S[a * q.k + b] * S[a2 * q.k + b];
-                q.SS[a * 6 + a2] = q.SS[a2 * 6 + a] = v;
-            }
+            for (Int a2 = 0; a2 < a; ++a2) q.SS[a * 6 + a2] = q.SS[a2 * 6 + a];
             ss += q.SS[a * 6 + a];
         }
         q.snorm = std::sqrt(ss);
@@ -188,6 +185,20 @@ inline Int unknowns_of(SumContact& q, double** x) {
     return count;
 }
 
+// Every contact's columns (sum_columns) into C (6 rows, FAST_K apart) and what does not move
+// with them into fixed (zeroed first); their count
+inline Int all_columns(Vec f, const SumContact* cs, Int m, const double* u, double* C,
+                       double* fixed) {
+    for (Int a = 0; a < 6; ++a) fixed[a] = 0.0;
+    Int E = 0;
+    for (Int i = 0; i < m; ++i) {
+        double z[6], sx[6];
+        EllipsePoint e{0.0, 0.0};
+        E = sum_columns(f, cs[i], u, C, E, fixed, z, sx, e);
+    }
+    return E;
+}
+
 // v (len) less its part in the span of the orthonormal rows Q[:rank] (ld apart); ||v||^2 after
 inline double less_span(const double* Q, Int rank, Int ld, Int len, double* v) {
     for (Int q = 0; q < rank; ++q) {
@@ -200,6 +211,17 @@ inline double less_span(const double* Q, Int rank, Int ld, Int len, double* v) {
     return vv;
 }
 
+// Gram-Schmidt's step: the row Q[rank] (len entries) less its part in the span of Q[:rank],
+// normalized and kept where ||.||^2 after exceeds floor; the rank after
+inline Int grow_basis(double* Q, Int rank, Int ld, Int len, double floor) {
+    double* const v = Q + rank * ld;
+    const double vv = less_span(Q, rank, ld, len, v);
+    if (!(vv > floor)) return rank;
+    const double inv = 1.0 / std::sqrt(vv);
+    for (Int a = 0; a < len; ++a) v[a] *= inv;
+    return rank + 1;
+}
+
 // A state's unknowns, and its equations on u: 1 a kink (lam), k flat (v), k + 1 a kflat (a, w)
 inline Int state_size(const SumContact& q) {
     return q.state == KINK ? 1 : q.state == FLAT ? q.k : q.state == KFLAT ? q.k + 1 : 0;
@@ -209,25 +231,17 @@ inline Int state_size(const SumContact& q) {
 // the span of C (Gram-Schmidt on C's columns, r's part outside it above 1e-8 of ||r||)
 inline bool states_hold(Vec f, const SumContact* cs, Int m, const double* u, Vec r) {
     constexpr Int n = 6;
-    double C[n * FAST_K], fixed[n] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, z[n], sx[n];
-    Int E = 0;
-    for (Int i = 0; i < m; ++i) {
-        EllipsePoint e{0.0, 0.0};
-        E = sum_columns(f, cs[i], u, C, E, fixed, z, sx, e);
-    }
+    double C[n * FAST_K], fixed[n];
+    const Int E = all_columns(f, cs, m, u, C, fixed);
     double Q[n * n];
     Int rank = 0;
     for (Int j = 0; j < E && rank < n; ++j) {
-        double v[n], v0 = 0.0;
+        double v0 = 0.0;
         for (Int a = 0; a < n; ++a) {
-            v[a] = C[a * FAST_K + j];
-            v0 += v[a] * v[a];
+            Q[rank * n + a] = C[a * FAST_K + j];
+            v0 += Q[rank * n + a] * Q[rank * n + a];
         }
-        const double vv = less_span(Q, rank, n, n, v);
-        if (!(vv > 1e-20 * v0)) continue;
-        const double inv = 1.0 / std::sqrt(vv);
-        for (Int a = 0; a < n; ++a) Q[rank * n + a] = v[a] * inv;
-        rank += 1;
+        rank = grow_basis(Q, rank, n, n, 1e-20 * v0);
     }
     double w[n], rr = 0.0;
     for (Int a = 0; a < n; ++a) {
@@ -493,14 +507,8 @@ inline Int sum_rows(IVec ints, Vec f, const SumContact* cs, Int m, const double*
 // projections when that one is outside too.
 inline void sum_least_norm(Vec f, SumContact* cs, Int m, const double* u, double t, Vec r) {
     constexpr Int n = 6;
-    double C[n * FAST_K];
-    double fixed[n] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    Int E = 0;
-    for (Int i = 0; i < m; ++i) {
-        double z[n], sx[n];
-        EllipsePoint e{0.0, 0.0};
-        E = sum_columns(f, cs[i], u, C, E, fixed, z, sx, e);
-    }
+    double C[n * FAST_K], fixed[n];
+    const Int E = all_columns(f, cs, m, u, C, fixed);
     if (E == 0) return;
     double b[n];
     for (Int a = 0; a < n; ++a) b[a] = t * r[a] - fixed[a];
@@ -542,13 +550,8 @@ inline void sum_least_norm(Vec f, SumContact* cs, Int m, const double* u, double
     }
     Int rank = 0;
     for (Int a = 0; a < n; ++a) {
-        double* q = Q + rank * FAST_K;
-        for (Int j = 0; j < E; ++j) q[j] = C[a * FAST_K + j];
-        const double qq = less_span(Q, rank, FAST_K, E, q);
-        if (!(qq > 1e-20 * big)) continue;
-        const double inv = 1.0 / std::sqrt(qq);
-        for (Int j = 0; j < E; ++j) q[j] *= inv;
-        rank += 1;
+        for (Int j = 0; j < E; ++j) Q[rank * FAST_K + j] = C[a * FAST_K + j];
+        rank = grow_basis(Q, rank, FAST_K, E, 1e-20 * big);
     }
     for (Int j = 0; j < E; ++j) x0[j] = x[j];
     for (Int round = 0; round < FEASIBLE_ROUNDS; ++round) {

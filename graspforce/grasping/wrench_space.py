@@ -495,8 +495,8 @@ class WrenchSpace:
         that all have friction, of the normal magnitude, whose wrenches span R^6: the sum of
         CH({0} U E_i) in R^6 whose Newton finish core/shooting/sum_finish.hpp takes. The lift in
         R^(m+5) has no start table from five contacts, and its IE steps cost (m + 5)^2; on the
-        sum, soft fingers around a sphere take 9.7 against 11.3 us (three), 11.3 against 14.2
-        (four), 12.8 against 21.9 (five), the ingot 11.2 against 10.3 (docs/design.md, "W_Linf's
+        sum, soft fingers around a sphere take 9.7 against 11.3 us (three), 11.4 against 14.3
+        (four), 12.8 against 21.9 (five), the ingot 11.2 against 10.4 (docs/design.md, "W_Linf's
         sum"). A grasp shot in its wrenches' span (two point contacts: R^5) keeps the lift, as
         the finish works in R^6."""
         return (method == "zc-ie" and self.magnitude == "normal"
