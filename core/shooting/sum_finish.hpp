@@ -22,10 +22,10 @@
 // c_i^T u = 0 and S_i^T u = 0) in u, t and the states' unknowns: 7 + (1, k, k + 1 a kink, flat,
 // kflat) unknowns, with the curvatures (S S^T - (S x)(S x)^T) / ||S^T u|| of the smooth shares.
 // States read off a degenerate face whose equations no u solves are demoted first
-// (`states_hold`). When a step has converged, a state whose unknowns left their bounds, or whose support has the
-// wrong sign at u, changes (kink -> on or off, flat -> on, on -> kink, off -> kink, ...) and
-// Newton goes on. Where the system is singular (fingers squeezing), a proximal term keeps it
-// regular and the unknowns are moved within their bounds (`sum_least_norm`).
+// (`states_hold`). When a step has converged, a state whose unknowns left their bounds, or whose
+// support has the wrong sign at u, changes (kink -> on or off, flat -> on, on -> kink, off ->
+// kink, ...) and Newton goes on. Where the system is singular (fingers squeezing), a proximal
+// term keeps it regular and the unknowns are moved within their bounds (`sum_least_norm`).
 //
 // The answer is certified as the other finishes' (newton.hpp): the shares are written as a convex
 // combination of at most six points of W (each contact's share split into the origin and points
