@@ -11,6 +11,7 @@
 #include "shooting/newton.hpp"
 #include "shooting/sum_finish.hpp"
 #include "shooting/shot.hpp"
+#include "shooting/pair_exit.hpp"
 #include "shooting/zc_family.hpp"
 #include "shooting/gjk_based.hpp"
 #include "shooting/bi_gjk.hpp"

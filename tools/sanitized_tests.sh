@@ -18,7 +18,7 @@ if [ ${#tests[@]} -eq 0 ]; then
            tests/test_grasp_forces.py tests/test_growth.py tests/test_certificates.py
            tests/test_determinism.py tests/test_threads.py tests/test_batch.py
            tests/test_span.py tests/test_scale.py tests/test_fresh.py tests/test_contact.py
-           tests/test_sets.py tests/test_min_force_call.py)
+           tests/test_sets.py tests/test_min_force_call.py tests/test_pair_exit.py)
 fi
 # Python itself is not built with the sanitizers: its allocations are not tracked for leaks
 LD_PRELOAD="$(gcc -print-file-name=libasan.so):$(gcc -print-file-name=libubsan.so)" \

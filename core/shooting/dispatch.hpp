@@ -57,7 +57,7 @@ Shot shoot(IVec ints, Vec floats, Vec r, Int ws, Int method, double eps, Int max
     if (method == IE)
         out = ie(ints, floats, r, ws, eps, max_iter);
     else if (method == ZC_IE)
-        out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_SMOOTH_NEWTON);
+        out = zc_ie(ints, floats, r, ws, eps, max_iter);
     else if (method == ZC_IE_PAPER)
         out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE);
     else if (method == ZC_IE_NEWTON)

@@ -141,6 +141,12 @@ Shot shoot_with_table(IVec ints, Vec floats, Vec r, Int ws, Int method, double e
             } else if (method == IE) {
                 out = ie_from(ints, floats, r, ws, eps, max_iter, P, Wt, 0, 0);
             } else {
+                if (method == ZC_IE && n == 6 && pair_applies(ints, floats)) {
+                    // two soft fingers: the exit in closed form from the table's point
+                    // (pair_exit.hpp)
+                    Shot pair = pair_exit(ints, floats, r, ws, eps, 1.0 / t);
+                    if (pair.status == HIT) return pair;
+                }
                 const Int mode = method == ZC_IE       ? WITH_SMOOTH_NEWTON
                                  : method == ZC_IE_NEWTON ? WITH_NEWTON
                                                           : WITH_IE;

@@ -135,9 +135,11 @@ class Grasp:
         at W_Linf's lift in R^(m + 5) (graspforce.grasping.wrench_space), where IE needs half the
         steps; ZC-IE on contacts that all have friction (normal magnitude, wrenches spanning R^6)
         shoots W_Linf itself, with a Newton finish on the contacts' states
-        (core/shooting/sum_finish.hpp). A grasp whose wrenches span only R^k, k < 6 (two point
-        contacts), is shot in that span (the set Q^T W, the ray Q^T r); a load outside it, or a
-        shot there that ends uncertified, at the full-dimensional set.
+        (core/shooting/sum_finish.hpp). On two soft fingers (L1, normal magnitude) ZC-IE's first
+        point on the ray is followed by the exit in closed form (core/shooting/pair_exit.hpp). A
+        grasp whose wrenches span only R^k, k < 6 (two point contacts), is shot in that span
+        (the set Q^T W, the ray Q^T r); a load outside it, or a shot there that ends
+        uncertified, at the full-dimensional set.
         """
         key = (norm, magnitude, method)
         compiled = None
