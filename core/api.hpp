@@ -211,6 +211,9 @@ Shot zc_from(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
              double t, Mat Pz, Mat Wz, Vec lz, Int kz, Int it, Int calls, Mat inverse,
              Mat directions);
 Shot zc_family(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int mode);
+// ZC-based iterations from the origin until a facet the ray crosses: status FACET with it in V,
+// or the shot as it ended
+Shot first_facet(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter);
 // zc_from from a record's simplex V[:k] (witnesses W, weights lam), copied into arrays with the
 // n + 2 rows zc_from writes to
 Shot zc_from_simplex(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int mode,

@@ -185,12 +185,7 @@ inline Shot from_facet(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max
 namespace gf {
 
 Shot ie(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter) {
-    const Int n = r.n;
-    // initialization shared with ZC-IE: ZC-based iterations until V_k is a facet crossed by the
-    // ray in its interior (a flat set never has one: ZC-based then finishes the job)
-    Array Pz(n + 2, n), Wz(n + 2, ws), lz(n + 2);
-    Shot out = zc_from(ints, floats, r, ws, eps, max_iter, UNTIL_FACET, 0.0, Pz.mat(), Wz.mat(),
-                       lz.vec(), 0, 0, 0, Mat{}, Mat{});
+    Shot out = first_facet(ints, floats, r, ws, eps, max_iter);
     if (out.status != FACET) return out;
     return ie_from(ints, floats, r, ws, eps, max_iter, out.V.mat(), out.W.mat(), out.iters,
                    out.calls);

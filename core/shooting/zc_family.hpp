@@ -816,6 +816,16 @@ Shot zc_from_simplex(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_i
                    Mat{}, Mat{});
 }
 
+// IE's initialization, shared with ZC-IE: ZC-based iterations from the origin until V_k is a
+// facet crossed by the ray in its interior (status FACET, the facet in V), or the shot's end (a
+// flat set never has one: ZC-based then finishes the job)
+Shot first_facet(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter) {
+    const Int n = r.n;
+    Array Pz(n + 2, n), Wz(n + 2, ws), lz(n + 2);
+    return zc_from(ints, floats, r, ws, eps, max_iter, UNTIL_FACET, 0.0, Pz.mat(), Wz.mat(),
+                   lz.vec(), 0, 0, 0, Mat{}, Mat{});
+}
+
 Shot zc_family(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int mode) {
     const Int n = r.n;
     // Pz (n + 2, n), Wz (n + 2, ws), lz (n + 2)
