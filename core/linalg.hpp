@@ -109,12 +109,11 @@ constexpr double RANK_TOL = 1e-12;
     order[j] = tmp2;
 }
 
-}  // namespace linalg_detail
 
-// x[x0:x0 + q] = argmin ||D[:n, :q] x - rhs[:n]||. False when D is (numerically) rank
-// deficient. work (n, q) and wrhs (n) are scratch; D and rhs are left untouched.
-bool lstsq(Mat D, Int n, Int q, Vec rhs, Vec x, Int x0, Mat work, Vec wrhs) {
-    using linalg_detail::RANK_TOL;
+// lstsq for n rows, N of them when N > 0 (the loops over rows then unroll)
+template <int N>
+bool lstsq_sized(Mat D, Int n_, Int q, Vec rhs, Vec x, Int x0, Mat work, Vec wrhs) {
+    const Int n = N > 0 ? N : n_;
     for (Int i = 0; i < n; ++i) {
         wrhs[i] = rhs[i];
         for (Int j = 0; j < q; ++j) work(i, j) = D(i, j);
@@ -156,6 +155,16 @@ bool lstsq(Mat D, Int n, Int q, Vec rhs, Vec x, Int x0, Mat work, Vec wrhs) {
         x[x0 + j] = s / work(j, j);
     }
     return true;
+}
+
+}  // namespace linalg_detail
+
+// x[x0:x0 + q] = argmin ||D[:n, :q] x - rhs[:n]||. False when D is (numerically) rank
+// deficient. work (n, q) and wrhs (n) are scratch; D and rhs are left untouched. Compiled for
+// R^6 apart (the Newton finishes' certificates on grasps: the same operations, unrolled)
+bool lstsq(Mat D, Int n, Int q, Vec rhs, Vec x, Int x0, Mat work, Vec wrhs) {
+    if (n == 6) return linalg_detail::lstsq_sized<6>(D, n, q, rhs, x, x0, work, wrhs);
+    return linalg_detail::lstsq_sized<0>(D, n, q, rhs, x, x0, work, wrhs);
 }
 
 // `lstsq` (x at offset 0) when work and house already hold the Householder QR of D's first

@@ -2,6 +2,7 @@
 (core/python/min_force_call.hpp), answers exactly as the general path of Grasp.min_force: every
 field of the record, bit for bit, on feasible, infeasible and zero loads, in R^6 and in a
 rank-deficient grasp's span, and it refuses what the general path refuses."""
+import inspect
 import pickle
 
 import numpy as np
@@ -100,23 +101,49 @@ def test_other_methods_and_inputs_the_compiled_call_does_not_take():
         min_force_compiled(object(), w)
 
 
-def test_tolerances_equal_to_the_defaults_take_the_compiled_call():
+def test_the_common_call_takes_the_compiled_call():
+    """The class's min_force (core/python/min_force_method.hpp) takes the compiled call for the
+    default tolerances, given or not, by position or by keyword; other tolerances, arguments it
+    does not match and their errors are the Python method's."""
     rng = np.random.default_rng(5)
     grasp = random_grasp(rng, 4, kinds=("soft",))
     w = random_wrench(rng)
     settle(grasp, w, "L1", "normal")
-    calls = []
-    compiled = grasp_module.min_force_compiled
+    key = ("L1", "normal", "zc-ie")
+    compiled = grasp._compiled[key]
+    a = grasp.min_force(w)
+    # an object that is not a compiled call in its place: a call that takes it raises
+    grasp._compiled[key] = object()
     try:
-        grasp_module.min_force_compiled = lambda c, x: calls.append(x) or compiled(c, x)
-        a = grasp.min_force(w, eps=float("1e-9"), max_iter=int("10000"))
+        for args, kwargs in (((), {}), (("L1", "normal", "zc-ie", 1e-9, 10000), {}),
+                             ((), {"eps": float("1e-9"), "max_iter": int("10000")}),
+                             ((), {"method": "zc-ie", "norm": "L1"})):
+            with pytest.raises(TypeError, match="min_force_call"):
+                grasp.min_force(w, *args, **kwargs)
         b = grasp.min_force(w, eps=np.float64(1e-9))
         c = grasp.min_force(w, eps=1e-8)
+        d = grasp.min_force(w_ext=w)
     finally:
-        grasp_module.min_force_compiled = compiled
-    assert len(calls) == 1
+        grasp._compiled[key] = compiled
     assert_same_record(a, b)
+    assert_same_record(a, d)
     assert c.status == "optimal" and abs(c.sigma - a.sigma) <= 1e-8 * a.sigma
+    with pytest.raises(TypeError, match="unexpected keyword argument 'tol'"):
+        grasp.min_force(w, tol=1e-9)
+    with pytest.raises(TypeError, match="unexpected keyword argument"):
+        grasp.min_force(w, **{f"x{i}": i for i in range(20)})
+    with pytest.raises(TypeError, match="multiple values for argument 'norm'"):
+        grasp.min_force(w, "L1", norm="L1")
+    with pytest.raises(TypeError, match="w_ext"):
+        grasp.min_force()
+    with pytest.raises(ValueError, match="norm"):
+        grasp.min_force(w, ["L1"])
+    # the Python method's name, signature and docstring
+    assert gf.Grasp.min_force.__name__ == "min_force"
+    assert str(inspect.signature(gf.Grasp.min_force)) == (
+        "(self, /, w_ext, norm='L1', magnitude='normal', method='zc-ie', eps=1e-09, "
+        "max_iter=10000)")
+    assert gf.Grasp.min_force.__doc__.startswith("Contact forces in the friction cones")
 
 
 def test_reset_and_pickling_drop_the_compiled_calls():

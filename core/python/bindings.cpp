@@ -15,6 +15,7 @@
 #include "python/python.hpp"
 #include "python/batch.hpp"
 #include "python/min_force_call.hpp"
+#include "python/min_force_method.hpp"
 #include "python/testing.hpp"
 #include "python/timing.hpp"
 
@@ -135,16 +136,23 @@ NB_MODULE(_core, m) {
         },
         "record_type"_a, "names"_a, "target"_a, "method"_a, "eps"_a, "max_iter"_a, "size"_a,
         "start"_a, "ints"_a, "floats"_a, "reader"_a, "span"_a, "t_scale"_a, "contacts"_a,
-        "Grasp.min_force's common call with these constants, for min_force_compiled.");
+        "Grasp.min_force's common call with these constants, for min_force_method.");
 
     m.def(
         "min_force_compiled",
         [](nb::handle call, nb::handle w_ext) {
             return MinForceCall::of(call)(w_ext);
         },
-        "call"_a, "w_ext"_a,
+        // positional and unnamed: nanobind's simple dispatch, without the keyword matching of
+        // named arguments
         "The MinForce record of w_ext from min_force_call's capsule (the shot, its forces "
-        "and the record in one call), or None where Grasp.min_force's general path answers.");
+        "and the record in one call), or None where Grasp.min_force's general path answers: "
+        "the common call of min_force_method alone (benchmarks/fresh.py times it).");
+
+    m.def("min_force_method", &min_force_method, "cls"_a, "general"_a,
+          "A method descriptor of cls for Grasp.min_force: the common call straight to its "
+          "compiled call, any other with its own arguments to `general`, the Python method "
+          "whose name, signature and docstring it takes.");
 
     m.def(
         "shoot_warm",

@@ -57,13 +57,13 @@ Shot make_result(Int status, double t, double t_up, double h_n, Int iters, Int c
 // changed >= 0: Pz[:k], Wz[:k] already hold P[:k], Wt[:k] but for that row (an IE step
 // replaces one vertex), which alone is copied.
 Int keep(Mat P, Mat Wt, Vec lam, Int k, Mat Pz, Mat Wz, Vec lz, Int changed) {
-    for (Int j = 0; j < k; ++j) {
-        if (changed < 0 || j == changed) {
-            for (Int i = 0; i < P.cols; ++i) Pz(j, i) = P(j, i);
-            for (Int i = 0; i < Wt.cols; ++i) Wz(j, i) = Wt(j, i);
-        }
-        lz[j] = lam[j];
+    // the rows to copy as a range, not a test per row: IE keeps its facet at every step
+    const Int first = changed < 0 ? 0 : changed, end = changed < 0 ? k : changed + 1;
+    for (Int j = first; j < end; ++j) {
+        for (Int i = 0; i < P.cols; ++i) Pz(j, i) = P(j, i);
+        for (Int i = 0; i < Wt.cols; ++i) Wz(j, i) = Wt(j, i);
     }
+    for (Int j = 0; j < k; ++j) lz[j] = lam[j];
     return k;
 }
 

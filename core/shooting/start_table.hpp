@@ -123,17 +123,27 @@ Shot shoot_with_table(IVec ints, Vec floats, Vec r, Int ws, Int method, double e
          method == IE) &&
         table.n > 0) {
         const Int n = r.n;
-        // P (n + 2, n), B (n, n), y (n) in one array; Wt (n + 2, ws); lam (n + 2); scores (F,
-        // which table_start zeroes itself: a lift's table has ~700 facets)
-        Array rows(2 * n + 3, n), Wt_a(n + 2, ws), lam_a(n + 2),
-            scores = Array::uninitialized(1, static_cast<Int>(table[0]));
-        Mat P = rows.mat().rows_range(0, n + 2);
-        Mat B = rows.mat().rows_range(n + 2, 2 * n + 2);
-        Vec y = rows.mat().row(2 * n + 2);
-        Mat Wt = Wt_a.mat();
-        Vec lam = lam_a.vec();
-        const double t =
-            start_table_detail::table_start(table, floats, r, P, Wt, lam, y, B, scores.vec());
+        // P (n + 2, n), B (n, n), y (n), Wt (n + 2, ws), lam (n + 2), zeroed; and the scores
+        // (F, which table_start zeroes itself: a lift's table has ~700 facets): one block, on
+        // the stack where it fits (a grasp's sets in R^6: ~250 entries)
+        constexpr Int LOCAL = 1024;
+        const Int F = static_cast<Int>(table[0]);
+        const Int zeroed = (2 * n + 3) * n + (n + 2) * ws + n + 2;
+        double local[LOCAL];
+        Array heap;
+        Vec block{local, zeroed + F};
+        if (zeroed + F <= LOCAL)
+            std::fill_n(local, zeroed, 0.0);
+        else
+            block = (heap = Array(zeroed + F)).vec();
+        const Mat rows = mat_view(block, 0, 2 * n + 3, n);
+        Mat P = rows.rows_range(0, n + 2);
+        Mat B = rows.rows_range(n + 2, 2 * n + 2);
+        Vec y = rows.row(2 * n + 2);
+        Mat Wt = mat_view(block, (2 * n + 3) * n, n + 2, ws);
+        Vec lam = block.segment((2 * n + 3) * n + (n + 2) * ws, n + 2);
+        const double t = start_table_detail::table_start(table, floats, r, P, Wt, lam, y, B,
+                                                         block.segment(zeroed, F));
         if (t > 0.0) {
             Shot out;
             if (method == BI_GJK) {

@@ -308,19 +308,34 @@ inline Int restart(Mat P, Mat Wt, Vec lam, Int k, Vec r, const Scratch& sc) {
     return drop_point(P, Wt, lam, k, j);
 }
 
-// The work arrays of zc_from's loop in R^n, witnesses of ws entries, in one allocation: rows
+// The work arrays of zc_from's loop in R^n, witnesses of ws entries, in one zeroed block: rows
 // ((n + 10) x n: the simplex P, then the n-vectors, the normal at n + 2), witnesses
 // ((n + 3) x ws), weights (n + 2), four n x n matrices, the subproblem's scratch; and the pivots.
+// On the stack up to LOCAL entries (a grasp's wrench sets: ~500 in R^6), else on the heap.
 struct LoopWork {
-    Array buf;
-    IArray pivots;
+    static constexpr Int LOCAL = 1024, LOCAL_N = 16;
+    double local[LOCAL];
+    Int local_pivots[LOCAL_N];
+    Array heap;
+    IArray heap_pivots;
+    IVec pivots;
     Mat rows, witnesses, M, lu, B, D;
     Vec lam;
     Scratch sc;
-    LoopWork(Int n, Int ws)
-        : buf((n + 10) * n + (n + 3) * ws + n + 2 + 4 * n * n + (2 * n + 5) * (n + 1) + n + 2),
-          pivots(n) {
-        const Vec w = buf.vec();
+    LoopWork(Int n, Int ws) {
+        const Int size =
+            (n + 10) * n + (n + 3) * ws + n + 2 + 4 * n * n + (2 * n + 5) * (n + 1) + n + 2;
+        Vec w{local, size};
+        if (size <= LOCAL)
+            std::fill_n(local, size, 0.0);
+        else
+            w = (heap = Array(size)).vec();
+        if (n <= LOCAL_N) {
+            std::fill_n(local_pivots, n, Int{0});
+            pivots = IVec{local_pivots, n};
+        } else {
+            pivots = (heap_pivots = IArray(n)).vec();
+        }
         const Int a = (n + 10) * n;
         const Int b = a + (n + 3) * ws;
         const Int c = b + n + 2;
@@ -357,7 +372,7 @@ Shot zc_loop(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter, Int
     const Vec wit = w.witnesses.row(n + 2);
     const Vec lam = w.lam;
     const Mat M = w.M, lu = w.lu, B = w.B, D = w.D;
-    const IVec piv = w.pivots.vec();
+    const IVec piv = w.pivots;
     const Scratch& sc = w.sc;
     const bool use_ie = mode == WITH_IE || mode == WITH_NEWTON || mode == WITH_SMOOTH_NEWTON;
 

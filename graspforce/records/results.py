@@ -6,7 +6,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .._core import HIT, LIMIT, MISS
+from .._core import HEAD, HIT, LIMIT, MISS
 from ._forces import force_views
 from ._packed import unpack
 
@@ -185,6 +185,13 @@ class ConeDistance:
 
 
 _NO_SHOT = (0, 0.0, 0.0, 0.0, 0, 0, 0, 0)   # the head of a call that shot nothing (a zero wrench)
+_HEAD_INTS = (0, 4, 5, 6, 7)                # the head's integer entries (status, counts, k)
+
+
+def _packed_array(packed):
+    """A packed answer as an array: the compiled call's bytes (read-only, not copied), or the
+    array itself."""
+    return np.frombuffer(packed) if type(packed) is bytes else packed
 
 
 def _force_array(index, doc):
@@ -220,7 +227,7 @@ class MinForce:
     # writes the slots that from_packed sets, found by name: a slot from_packed sets is one it
     # must set too
     __slots__ = ("feasible", "status", "sigma", "sigma_lower", "norm", "magnitude", "method",
-                 "iterations", "support_calls", "ray", "_contacts", "_forces", "_shot")
+                 "iterations", "support_calls", "_ray", "_contacts", "_forces", "_shot")
 
     def __init__(self, feasible, status, sigma, sigma_lower, forces, world_forces, wrenches,
                  resultant, norm, magnitude, method, iterations, support_calls, ray=None):
@@ -228,11 +235,24 @@ class MinForce:
                                                                     sigma_lower)
         self.norm, self.magnitude, self.method = norm, magnitude, method
         self.iterations, self.support_calls = iterations, support_calls
-        # (W, w_ext, head, packed, extra, wrench space) (graspforce.records._packed; the space's
-        # length, Grasp.length, is the unit the shot at W was made in); None for a zero wrench or a
-        # baseline's answer
-        self.ray = ray
+        self._ray = ray
         self._forces = (forces, world_forces, wrenches, resultant)
+
+    @property
+    def ray(self):
+        """(W, w_ext, head, packed, extra, wrench space) of the shot (graspforce.records._packed;
+        the space's length, Grasp.length, is the unit the shot at W was made in); None for a
+        zero wrench or a baseline's answer. The compiled call (core/python/min_force_call.hpp)
+        leaves head None and packed a bytes object [packed, head], decoded here when first
+        read."""
+        ray = self._ray
+        if ray is not None and ray[2] is None:
+            packed = _packed_array(ray[3])
+            head = packed[-HEAD:].tolist()
+            for i in _HEAD_INTS:
+                head[i] = int(head[i])
+            ray = self._ray = (ray[0], ray[1], tuple(head), packed, ray[4], ray[5])
+        return ray
 
     @classmethod
     def from_packed(cls, status, sigma, sigma_lower, norm, magnitude, method, ray, m,
@@ -251,7 +271,7 @@ class MinForce:
         record.method = method
         record.iterations = head[4]
         record.support_calls = head[5]
-        record.ray = ray
+        record._ray = ray
         record._contacts = m
         return record
 
@@ -269,7 +289,7 @@ class MinForce:
         try:
             forces = self._forces
         except AttributeError:
-            packed = self.ray[3]
+            packed = _packed_array(self._ray[3])
             packed.flags.writeable = False
             forces, wrenches, resultant = force_views(packed, self._contacts)
             self._forces = (forces, wrenches[:, :3], wrenches, resultant)
