@@ -122,3 +122,20 @@ def test_contains_against_eq12(mu, mu_s):
 def test_bad_input_names_the_field(kwargs, field):
     with pytest.raises(ValueError, match=field):
         gf.Contact(**kwargs)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_squared_arm_is_the_positions_and_spin_coefficients(seed):
+    # a grasp's default length sums the contacts' ||p||^2 + mu_s^2, computed when each is made
+    # (in C for the default tangents, in Python for given ones): the same floats as from p
+    rng = np.random.default_rng(seed)
+    p, n = rng.normal(size=3), rng.normal(size=3)
+    o = np.cross(n, rng.normal(size=3))
+    o /= np.linalg.norm(o)
+    t = np.cross(n / np.linalg.norm(n), o)
+    mu_s = float(rng.uniform(0.0, 0.05))
+    x, y, z = p.tolist()
+    expected = x * x + y * y + z * z + mu_s * mu_s
+    assert gf.Contact(p, n, 0.5, mu_s)._arm2 == expected
+    assert gf.Contact(p, n, 0.5, mu_s, tangents=(o, t))._arm2 == expected
+    assert gf.Contact(p.tolist(), n, 0.5, mu_s)._arm2 == expected

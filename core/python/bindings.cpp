@@ -235,13 +235,16 @@ NB_MODULE(_core, m) {
             if (!read_finite3(position.ptr(), p) || !read_finite3(normal.ptr(), n) ||
                 !gf::contacts::contact_entries(p, n, mu, mu_spin, numpy_dot3, unit, entries))
                 return nb::none();
+            // the squared arm, ||p||^2 + mu_s^2, in Python's order of the terms (Grasp's default
+            // length sums them)
+            const double arm2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + mu_spin * mu_spin;
             return nb::make_tuple(numpy_copy(p, 3), numpy_copy(unit, 3),
-                                  numpy_copy(entries, gf::contacts::ENTRIES));
+                                  numpy_copy(entries, gf::contacts::ENTRIES), arm2);
         },
         "position"_a, "normal"_a, "mu"_a, "mu_spin"_a,
-        "(position, unit normal, entries) of a contact with the default tangents "
-        "(graspforce.grasping.contact), or None: position or normal not a float64 array or list "
-        "of 3 finite floats, or a normal of length <= 1e-12.");
+        "(position, unit normal, entries, squared arm ||p||^2 + mu_s^2) of a contact with the "
+        "default tangents (graspforce.grasping.contact), or None: position or normal not a "
+        "float64 array or list of 3 finite floats, or a normal of length <= 1e-12.");
 
     m.def(
         "grasp_values",

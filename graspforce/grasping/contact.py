@@ -43,8 +43,8 @@ class Contact:
         self.mu_spin = mu_spin
         # position, unit normal and the entries a grasp's values are made of
         # (graspforce.grasping.wrench_space.grasp_values): G_i (6 x 4, row-major), mu, mu_s, mu_s /
-        # mu, (mu / mu_s)^2
-        self.position, self.normal, self._g = made
+        # mu, (mu / mu_s)^2; and ||p||^2 + mu_s^2, which a grasp's default length sums
+        self.position, self.normal, self._g, self._arm2 = made
 
     @staticmethod
     def _checked(position, normal, mu, mu_spin, tangents):
@@ -113,8 +113,8 @@ class Contact:
 
 
 def _with_tangents(position, n, mu, mu_spin, tangents):
-    """(position, unit normal, entries) of Contact._g for a contact with its own tangents
-    (o, t): the arithmetic of core/grasping/contacts.hpp with o given."""
+    """(position, unit normal, entries of Contact._g, squared arm) for a contact with its own
+    tangents (o, t): the arithmetic of core/grasping/contacts.hpp with o given."""
     length = math.sqrt(n.dot(n))
     nx, ny, nz = n.tolist()
     nx, ny, nz = nx / length, ny / length, nz / length
@@ -133,7 +133,7 @@ def _with_tangents(position, n, mu, mu_spin, tangents):
         py * nz - pz * ny, py * oz - pz * oy, py * tz - pz * ty, nx,
         pz * nx - px * nz, pz * ox - px * oz, pz * tx - px * tz, ny,
         px * ny - py * nx, px * oy - py * ox, px * ty - py * tx, nz,
-        mu, mu_spin, d_inv, spin_weight))
+        mu, mu_spin, d_inv, spin_weight)), px * px + py * py + pz * pz + mu_spin * mu_spin
 
 
 def _check_tangents(tangents, n):

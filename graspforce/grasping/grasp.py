@@ -87,8 +87,7 @@ class Grasp:
         """The default length (class docstring) of these contacts."""
         arms = 0.0
         for c in self.contacts:
-            x, y, z = c.position.tolist()       # floats: ~3x faster than numpy's dot here
-            arms += x * x + y * y + z * z + c.mu_spin * c.mu_spin
+            arms += c._arm2     # ||p||^2 + mu_s^2, computed when the contact was made
         if arms == 0.0:
             return 1.0
         fraction, exponent = math.frexp(2.0 * math.sqrt(arms / len(self.contacts)))
