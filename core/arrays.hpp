@@ -2,7 +2,8 @@
 //
 // The algorithms work on small dense arrays: vectors of n <= ~20 entries and row-major
 // matrices whose rows are points of a set (simplices, facets, witnesses). A view is a pointer
-// and a shape, passed by value; an Array owns its entries. Nothing here allocates but Array.
+// and a shape, passed by value; an Array owns its entries. Nothing here allocates but Array
+// (and a LocalBlock too large for its stack part).
 #pragma once
 
 #include <algorithm>
@@ -120,6 +121,27 @@ struct IArray {
         return a;
     }
     IVec vec() { return {data.data(), static_cast<Int>(data.size())}; }
+};
+
+// `size` entries of work space, the first `zeroed` of them zero: in the object itself up to
+// LOCAL entries (a shot's work arrays on a grasp's sets, made at every call, on the caller's
+// stack), else on the heap, all zeroed. Views of it point into it: not copied.
+template <class T, Int LOCAL>
+struct LocalBlock {
+    T local[LOCAL];
+    std::vector<T> heap;
+    T* data;
+    LocalBlock(Int size, Int zeroed) {
+        if (size <= LOCAL) {
+            std::fill_n(local, zeroed, T{});
+            data = local;
+        } else {
+            heap.assign(static_cast<size_t>(size), T{});
+            data = heap.data();
+        }
+    }
+    LocalBlock(const LocalBlock&) = delete;
+    LocalBlock& operator=(const LocalBlock&) = delete;
 };
 
 }  // namespace gf

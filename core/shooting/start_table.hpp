@@ -1,6 +1,7 @@
 #pragma once
 
 #include "api.hpp"
+#include "shooting/pair_exit.hpp"
 
 // A start table for many rays shot at one set: the facets of an inner polytope.
 //
@@ -126,16 +127,10 @@ Shot shoot_with_table(IVec ints, Vec floats, Vec r, Int ws, Int method, double e
         // P (n + 2, n), B (n, n), y (n), Wt (n + 2, ws), lam (n + 2), zeroed; and the scores
         // (F, which table_start zeroes itself: a lift's table has ~700 facets): one block, on
         // the stack where it fits (a grasp's sets in R^6: ~250 entries)
-        constexpr Int LOCAL = 1024;
         const Int F = static_cast<Int>(table[0]);
         const Int zeroed = (2 * n + 3) * n + (n + 2) * ws + n + 2;
-        double local[LOCAL];
-        Array heap;
-        Vec block{local, zeroed + F};
-        if (zeroed + F <= LOCAL)
-            std::fill_n(local, zeroed, 0.0);
-        else
-            block = (heap = Array(zeroed + F)).vec();
+        LocalBlock<double, 1024> work(zeroed + F, zeroed);
+        const Vec block{work.data, zeroed + F};
         const Mat rows = mat_view(block, 0, 2 * n + 3, n);
         Mat P = rows.rows_range(0, n + 2);
         Mat B = rows.rows_range(n + 2, 2 * n + 2);

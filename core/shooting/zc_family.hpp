@@ -314,28 +314,18 @@ inline Int restart(Mat P, Mat Wt, Vec lam, Int k, Vec r, const Scratch& sc) {
 // On the stack up to LOCAL entries (a grasp's wrench sets: ~500 in R^6), else on the heap.
 struct LoopWork {
     static constexpr Int LOCAL = 1024, LOCAL_N = 16;
-    double local[LOCAL];
-    Int local_pivots[LOCAL_N];
-    Array heap;
-    IArray heap_pivots;
+    static Int size(Int n, Int ws) {
+        return (n + 10) * n + (n + 3) * ws + n + 2 + 4 * n * n + (2 * n + 5) * (n + 1) + n + 2;
+    }
+    LocalBlock<double, LOCAL> buf;
+    LocalBlock<Int, LOCAL_N> pivot_buf;
     IVec pivots;
     Mat rows, witnesses, M, lu, B, D;
     Vec lam;
     Scratch sc;
-    LoopWork(Int n, Int ws) {
-        const Int size =
-            (n + 10) * n + (n + 3) * ws + n + 2 + 4 * n * n + (2 * n + 5) * (n + 1) + n + 2;
-        Vec w{local, size};
-        if (size <= LOCAL)
-            std::fill_n(local, size, 0.0);
-        else
-            w = (heap = Array(size)).vec();
-        if (n <= LOCAL_N) {
-            std::fill_n(local_pivots, n, Int{0});
-            pivots = IVec{local_pivots, n};
-        } else {
-            pivots = (heap_pivots = IArray(n)).vec();
-        }
+    LoopWork(Int n, Int ws)
+        : buf(size(n, ws), size(n, ws)), pivot_buf(n, n), pivots{pivot_buf.data, n} {
+        const Vec w{buf.data, size(n, ws)};
         const Int a = (n + 10) * n;
         const Int b = a + (n + 3) * ws;
         const Int c = b + n + 2;
