@@ -1,6 +1,7 @@
 #pragma once
 
 #include "api.hpp"
+#include "shooting/pair_exit.hpp"
 
 // One entry point for every ray-shooting procedure: the method code picks GJK-based, IE,
 // ZC-based, Bi-GJK, ZC-IE or ZC-IE with the Newton finish; where a shot stalls or stops above eps
@@ -47,6 +48,25 @@ inline Shot distance_based(IVec ints, Vec floats, Vec r, Int ws, Int method, dou
     return handed_over(out, certify(ie(ints, floats, r, ws, eps, max_iter), r, eps));
 }
 
+// "zc-ie" from the origin: ZC-IE with the smooth path (zc_family.hpp) and, on two soft fingers,
+// the exit in closed form from ZC's first facet, whose IE steps go on where it is not certified.
+inline Shot zc_ie(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter) {
+    const Int n = r.n;
+    if (n != 6 || !pair_applies(ints, floats))
+        return zc_family(ints, floats, r, ws, eps, max_iter, WITH_SMOOTH_NEWTON);
+    Shot first = first_facet(ints, floats, r, ws, eps, max_iter);
+    if (first.status != FACET) return first;
+    Shot out = pair_exit(ints, floats, r, ws, eps, 1.0 / first.t);
+    if (out.status == HIT) {
+        out.iters += first.iters;
+        out.calls += first.calls;
+        return out;
+    }
+    return zc_from_simplex(ints, floats, r, ws, eps, max_iter, WITH_SMOOTH_NEWTON, first.t,
+                          first.V.mat(), first.W.mat(), first.lam.vec(), n, first.iters,
+                          first.calls);
+}
+
 }  // namespace gf::dispatch_detail
 
 namespace gf {
@@ -57,7 +77,7 @@ Shot shoot(IVec ints, Vec floats, Vec r, Int ws, Int method, double eps, Int max
     if (method == IE)
         out = ie(ints, floats, r, ws, eps, max_iter);
     else if (method == ZC_IE)
-        out = zc_ie(ints, floats, r, ws, eps, max_iter);
+        out = dispatch_detail::zc_ie(ints, floats, r, ws, eps, max_iter);
     else if (method == ZC_IE_PAPER)
         out = zc_family(ints, floats, r, ws, eps, max_iter, WITH_IE);
     else if (method == ZC_IE_NEWTON)

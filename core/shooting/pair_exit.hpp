@@ -372,23 +372,4 @@ inline bool pair_applies(IVec ints, Vec f) {
         eps);
 }
 
-// "zc-ie" from the origin: ZC-IE with the smooth path (zc_family.hpp) and, on two soft fingers,
-// the exit in closed form from ZC's first facet, whose IE steps go on where it is not certified.
-inline Shot zc_ie(IVec ints, Vec floats, Vec r, Int ws, double eps, Int max_iter) {
-    const Int n = r.n;
-    if (n != 6 || !pair_applies(ints, floats))
-        return zc_family(ints, floats, r, ws, eps, max_iter, WITH_SMOOTH_NEWTON);
-    Shot first = first_facet(ints, floats, r, ws, eps, max_iter);
-    if (first.status != FACET) return first;
-    Shot out = pair_exit(ints, floats, r, ws, eps, 1.0 / first.t);
-    if (out.status == HIT) {
-        out.iters += first.iters;
-        out.calls += first.calls;
-        return out;
-    }
-    return zc_from_simplex(ints, floats, r, ws, eps, max_iter, WITH_SMOOTH_NEWTON, first.t,
-                          first.V.mat(), first.W.mat(), first.lam.vec(), n, first.iters,
-                          first.calls);
-}
-
 }  // namespace gf
