@@ -4,8 +4,8 @@
 // the argument conversions and the record's construction cost ~1.5 us; this call, from Python,
 // ~0.5 (a zero wrench's whole call). The packed answer and the shot's head go to Python as one
 // bytes object, [packed (size), head (HEAD)], that the record decodes when first read
-// (graspforce.records.results.MinForce.ray): a NumPy array and the head's tuple made here cost
-// ~0.2 us a call (Go1's scenario, 3%).
+// (graspforce.records.results.MinForce.ray), where a NumPy array and the head's tuple made
+// per call cost ~0.2 us (Go1's scenario, 3%).
 #pragma once
 
 #include <nanobind/nanobind.h>

@@ -286,7 +286,6 @@ class Grasp:
         return f"Grasp({len(self.contacts)} contacts)"
 
 
-
 # A reused grasp's min_force with the default tolerances calls its compiled call from a method
 # written in C, without the Python method's frame (~0.2 us of a ~7 us call); every other call
 # reaches the Python method above with its own arguments (core/python/min_force_method.hpp)
